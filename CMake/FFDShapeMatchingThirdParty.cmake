@@ -1,0 +1,33 @@
+# Finds VTK and the system Eigen for FFDShapeMatching, in every configure mode.
+#
+# Sets FFDShapeMatching_VTK_LIBRARIES (what the module library links) and
+# FFDShapeMatching_EXPORT_CODE_BUILD / _INSTALL, which ITK's module system writes
+# into the module's CMake file so that find_package(ITK COMPONENTS FFDShapeMatching)
+# finds the same packages for users.
+
+set(FFDShapeMatching_VTK_COMPONENTS
+  CommonCore
+  CommonDataModel
+  CommonExecutionModel
+  FiltersCore
+  FiltersGeneral
+  IOGeometry
+  IOLegacy
+  IOPLY
+  IOXML)
+find_package(VTK 9.1 REQUIRED COMPONENTS ${FFDShapeMatching_VTK_COMPONENTS})
+set(FFDShapeMatching_VTK_LIBRARIES)
+foreach(_component IN LISTS FFDShapeMatching_VTK_COMPONENTS)
+  list(APPEND FFDShapeMatching_VTK_LIBRARIES VTK::${_component})
+endforeach()
+
+# ITK 5.2 bundles an older Eigen under the same names; ITK_USE_SYSTEM_EIGEN (set on
+# every target through the module library) makes ITK's headers use this one.
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+
+set(_FFDShapeMatching_export_code "
+find_package(VTK 9.1 REQUIRED COMPONENTS ${FFDShapeMatching_VTK_COMPONENTS})
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+")
+set(FFDShapeMatching_EXPORT_CODE_BUILD "${_FFDShapeMatching_export_code}")
+set(FFDShapeMatching_EXPORT_CODE_INSTALL "${_FFDShapeMatching_export_code}")

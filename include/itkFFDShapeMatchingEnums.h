@@ -1,0 +1,72 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkFFDShapeMatchingEnums_h
+#define itkFFDShapeMatchingEnums_h
+
+#include "FFDShapeMatchingExport.h"
+#include <cstdint>
+#include <ostream>
+#include <string>
+
+namespace itk
+{
+/** \class FFDShapeMatchingEnums
+ * \brief Enumerations shared by the FFDShapeMatching pipeline stages and programs.
+ *
+ * \c Method names a shape-matching method of the module, as the paper
+ * "A comparative analysis of B-spline deformation models in 3D shape matching" names them:
+ * - \c GO: gradient-based global optimization of a B-spline transform on voxel images,
+ * - \c MRF: discrete Markov-random-field optimization of the B-spline control points,
+ * - \c Par: parametric-template matching of the meshes themselves,
+ * - \c GOPar and \c MRFPar: a voxel method refined by Par.
+ *
+ * The command-line spelling of each method ("go", "mrf", "par", "go+par", "mrf+par") is given by
+ * MethodToString() and parsed back by MethodFromString().
+ *
+ * \ingroup FFDShapeMatching
+ */
+class FFDShapeMatching_EXPORT FFDShapeMatchingEnums
+{
+public:
+  /** Shape-matching method. */
+  enum class Method : uint8_t
+  {
+    GO,
+    MRF,
+    Par,
+    GOPar,
+    MRFPar
+  };
+
+  /** The command-line spelling of a method: "go", "mrf", "par", "go+par" or "mrf+par". */
+  static std::string
+  MethodToString(Method method);
+
+  /** Parses the command-line spelling of a method (case-insensitive). Returns false and
+   * leaves \c method unchanged when \c text names no method. */
+  static bool
+  MethodFromString(const std::string & text, Method & method);
+};
+
+/** Prints the qualified name of the enumerator, e.g. "itk::FFDShapeMatchingEnums::Method::GO". */
+extern FFDShapeMatching_EXPORT std::ostream &
+                               operator<<(std::ostream & out, const FFDShapeMatchingEnums::Method value);
+
+} // namespace itk
+
+#endif // itkFFDShapeMatchingEnums_h
