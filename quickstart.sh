@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# FFDShapeMatching quick start on Debian 12.
+#   ./quickstart.sh demo   install what is missing, build, run the module's demo
+#   ./quickstart.sh test   install what is missing, build, run the whole test suite
+# The build goes to ./build (override with FFD_BUILD_DIR).
+set -euo pipefail
+cd "$(dirname "$0")"
+action=${1:-}
+case "$action" in
+  demo | test) ;;
+  *)
+    echo "usage: $0 demo|test" >&2
+    exit 2
+    ;;
+esac
+
+bash Utilities/InstallDependencies.sh
+build_dir=${FFD_BUILD_DIR:-build}
+jobs=$(nproc 2>/dev/null || echo 2)
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release
+cmake --build "$build_dir" -j"$jobs"
+
+if [ "$action" = demo ]; then
+  if [ -x "$build_dir/bin/ffd-match" ]; then
+    "$build_dir/bin/ffd-match" --demo --output-dir demo-output
+  else
+    # Until the matching program lands, the demo is the module's own test programs.
+    (cd "$build_dir" && ctest -j"$jobs" -L FFDShapeMatching --output-on-failure)
+  fi
+else
+  (cd "$build_dir" && ctest -j"$jobs" --output-on-failure)
+fi
