@@ -1,0 +1,438 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkBSplineDeformationPenalty_hxx
+#define itkBSplineDeformationPenalty_hxx
+
+#include "itkBSplineDeformationPenalty.h"
+#include <cmath>
+
+namespace itk
+{
+namespace detail
+{
+/** Centred cubic B-spline and its first two derivatives. */
+inline double
+CubicBSplineDerivative(double u, unsigned int order)
+{
+  const double a = std::abs(u);
+  if (a >= 2.0)
+  {
+    return 0.0;
+  }
+  const double sign = u < 0.0 ? -1.0 : 1.0;
+  if (a < 1.0)
+  {
+    switch (order)
+    {
+      case 0:
+        return 2.0 / 3.0 - a * a + 0.5 * a * a * a;
+      case 1:
+        return sign * (-2.0 * a + 1.5 * a * a);
+      default:
+        return -2.0 + 3.0 * a;
+    }
+  }
+  const double b = 2.0 - a;
+  switch (order)
+  {
+    case 0:
+      return b * b * b / 6.0;
+    case 1:
+      return -sign * 0.5 * b * b;
+    default:
+      return b;
+  }
+}
+
+/** Determinant and cofactor matrix of a 2x2 or 3x3 matrix. */
+template <unsigned int NDimensions>
+double
+DeterminantAndCofactors(const double (&m)[NDimensions][NDimensions], double (&cofactors)[NDimensions][NDimensions])
+{
+  static_assert(NDimensions == 2 || NDimensions == 3, "2-D or 3-D only");
+  if constexpr (NDimensions == 2)
+  {
+    cofactors[0][0] = m[1][1];
+    cofactors[0][1] = -m[1][0];
+    cofactors[1][0] = -m[0][1];
+    cofactors[1][1] = m[0][0];
+    return m[0][0] * m[1][1] - m[0][1] * m[1][0];
+  }
+  else
+  {
+    for (unsigned int i = 0; i < 3; ++i)
+    {
+      for (unsigned int j = 0; j < 3; ++j)
+      {
+        const unsigned int i1 = (i + 1) % 3;
+        const unsigned int i2 = (i + 2) % 3;
+        const unsigned int j1 = (j + 1) % 3;
+        const unsigned int j2 = (j + 2) % 3;
+        cofactors[i][j] = m[i1][j1] * m[i2][j2] - m[i1][j2] * m[i2][j1];
+      }
+    }
+    return m[0][0] * cofactors[0][0] + m[0][1] * cofactors[0][1] + m[0][2] * cofactors[0][2];
+  }
+}
+} // namespace detail
+
+template <typename TParametersValueType, unsigned int NDimensions>
+auto
+BSplineDeformationPenalty<TParametersValueType, NDimensions>::Evaluate(const BSplineTransformType & transform,
+                                                                        DerivativeType *             gradient,
+                                                                        double gradientFactor) -> MeasureType
+{
+  if (gradient != nullptr && gradient->GetSize() != transform.GetNumberOfParameters())
+  {
+    itkExceptionMacro(<< "Gradient has " << gradient->GetSize() << " elements, the transform "
+                      << transform.GetNumberOfParameters() << " parameters");
+  }
+  m_LastBendingEnergy = 0.0;
+  m_LastFoldingPenalty = 0.0;
+  MeasureType value = 0.0;
+  if (m_BendingEnergyWeight > 0.0)
+  {
+    m_LastBendingEnergy = this->EvaluateBendingEnergy(transform, gradient, gradientFactor * m_BendingEnergyWeight);
+    value += m_BendingEnergyWeight * m_LastBendingEnergy;
+  }
+  if (m_FoldingPenaltyWeight > 0.0)
+  {
+    m_LastFoldingPenalty = this->EvaluateFoldingPenalty(transform, gradient, gradientFactor * m_FoldingPenaltyWeight);
+    value += m_FoldingPenaltyWeight * m_LastFoldingPenalty;
+  }
+  return value;
+}
+
+template <typename TParametersValueType, unsigned int NDimensions>
+void
+BSplineDeformationPenalty<TParametersValueType, NDimensions>::UpdateGramMatrices(const MeshSizeType & meshSize)
+{
+  if (m_GramMatricesValid && meshSize == m_CachedMeshSize)
+  {
+    return;
+  }
+  // Four-point Gauss-Legendre quadrature: exact for the degree-6 products of cubic pieces.
+  const double nodes[4] = { -0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526 };
+  const double weights[4] = { 0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538 };
+  m_Gram.clear();
+  m_Gram.resize(NDimensions);
+  for (unsigned int axis = 0; axis < NDimensions; ++axis)
+  {
+    const unsigned int cells = meshSize[axis];
+    const unsigned int n = cells + 3;
+    for (unsigned int order = 0; order < 3; ++order)
+    {
+      GramMatrixType & gram = m_Gram[axis][order];
+      gram.assign(n * n, 0.0);
+      for (unsigned int cell = 0; cell < cells; ++cell)
+      {
+        for (unsigned int q = 0; q < 4; ++q)
+        {
+          const double t = cell + 0.5 * (1.0 + nodes[q]);
+          const double w = 0.5 * weights[q];
+          // Control points cell .. cell + 3 support this span (control point i sits at t = i - 1).
+          for (unsigned int i = cell; i < cell + 4; ++i)
+          {
+            const double bi = detail::CubicBSplineDerivative(t - (static_cast<double>(i) - 1.0), order);
+            for (unsigned int j = cell; j < cell + 4; ++j)
+            {
+              const double bj = detail::CubicBSplineDerivative(t - (static_cast<double>(j) - 1.0), order);
+              gram[i * n + j] += w * bi * bj;
+            }
+          }
+        }
+      }
+    }
+  }
+  m_CachedMeshSize = meshSize;
+  m_GramMatricesValid = true;
+}
+
+template <typename TParametersValueType, unsigned int NDimensions>
+void
+BSplineDeformationPenalty<TParametersValueType, NDimensions>::ApplySeparable(
+  const std::vector<const GramMatrixType *> & matrices,
+  const TParametersValueType *                coefficients,
+  std::vector<double> &                       result) const
+{
+  size_t total = 1;
+  std::array<size_t, NDimensions> size{};
+  for (unsigned int axis = 0; axis < NDimensions; ++axis)
+  {
+    size[axis] = m_CachedMeshSize[axis] + 3;
+    total *= size[axis];
+  }
+  std::vector<double> current(coefficients, coefficients + total);
+  std::vector<double> next(total);
+  size_t stride = 1;
+  for (unsigned int axis = 0; axis < NDimensions; ++axis)
+  {
+    const size_t           n = size[axis];
+    const GramMatrixType & matrix = *matrices[axis];
+    const size_t           outer = total / (n * stride);
+    for (size_t o = 0; o < outer; ++o)
+    {
+      for (size_t inner = 0; inner < stride; ++inner)
+      {
+        const size_t base = o * n * stride + inner;
+        for (size_t i = 0; i < n; ++i)
+        {
+          double       sum = 0.0;
+          const size_t jBegin = i >= 3 ? i - 3 : 0;
+          const size_t jEnd = std::min(n, i + 4);
+          for (size_t j = jBegin; j < jEnd; ++j)
+          {
+            sum += matrix[i * n + j] * current[base + j * stride];
+          }
+          next[base + i * stride] = sum;
+        }
+      }
+    }
+    std::swap(current, next);
+    stride *= n;
+  }
+  result = std::move(current);
+}
+
+template <typename TParametersValueType, unsigned int NDimensions>
+double
+BSplineDeformationPenalty<TParametersValueType, NDimensions>::EvaluateBendingEnergy(
+  const BSplineTransformType & transform,
+  DerivativeType *             gradient,
+  double                       gradientFactor)
+{
+  const MeshSizeType meshSize = transform.GetTransformDomainMeshSize();
+  this->UpdateGramMatrices(meshSize);
+  const auto   spacing = transform.GetCoefficientImages()[0]->GetSpacing();
+  double       cellCount = 1.0;
+  size_t       numberOfControlPoints = 1;
+  for (unsigned int axis = 0; axis < NDimensions; ++axis)
+  {
+    cellCount *= meshSize[axis];
+    numberOfControlPoints *= meshSize[axis] + 3;
+  }
+
+  // The terms of the sum over second derivatives: d^2/dx_a^2 once, mixed d^2/dx_a dx_b twice.
+  struct Term
+  {
+    std::vector<const GramMatrixType *> matrices;
+    double                              factor;
+  };
+  std::vector<Term> terms;
+  for (unsigned int a = 0; a < NDimensions; ++a)
+  {
+    for (unsigned int b = a; b < NDimensions; ++b)
+    {
+      Term term;
+      for (unsigned int axis = 0; axis < NDimensions; ++axis)
+      {
+        const unsigned int order = (axis == a ? 1u : 0u) + (axis == b ? 1u : 0u);
+        term.matrices.push_back(&m_Gram[axis][order]);
+      }
+      term.factor = (a == b ? 1.0 : 2.0) / (spacing[a] * spacing[a] * spacing[b] * spacing[b] * cellCount);
+      terms.push_back(term);
+    }
+  }
+
+  const ParametersType & parameters = transform.GetParameters();
+  double                 energy = 0.0;
+  std::vector<double>    product;
+  for (unsigned int d = 0; d < NDimensions; ++d)
+  {
+    const TParametersValueType * coefficients = parameters.data_block() + d * numberOfControlPoints;
+    for (const Term & term : terms)
+    {
+      this->ApplySeparable(term.matrices, coefficients, product);
+      double dot = 0.0;
+      for (size_t k = 0; k < numberOfControlPoints; ++k)
+      {
+        dot += coefficients[k] * product[k];
+      }
+      energy += term.factor * dot;
+      if (gradient != nullptr)
+      {
+        const double scale = 2.0 * term.factor * gradientFactor;
+        for (size_t k = 0; k < numberOfControlPoints; ++k)
+        {
+          (*gradient)[d * numberOfControlPoints + k] += scale * product[k];
+        }
+      }
+    }
+  }
+  return energy;
+}
+
+template <typename TParametersValueType, unsigned int NDimensions>
+double
+BSplineDeformationPenalty<TParametersValueType, NDimensions>::EvaluateFoldingPenalty(
+  const BSplineTransformType & transform,
+  DerivativeType *             gradient,
+  double                       gradientFactor)
+{
+  const MeshSizeType     meshSize = transform.GetTransformDomainMeshSize();
+  const auto             coefficientImage = transform.GetCoefficientImages()[0];
+  const auto             spacing = coefficientImage->GetSpacing();
+  const auto             direction = coefficientImage->GetDirection();
+  const ParametersType & parameters = transform.GetParameters();
+
+  std::array<size_t, NDimensions> controlSize{};
+  std::array<size_t, NDimensions> sampleSize{};
+  size_t                          numberOfControlPoints = 1;
+  size_t                          numberOfSamples = 1;
+  for (unsigned int axis = 0; axis < NDimensions; ++axis)
+  {
+    controlSize[axis] = meshSize[axis] + 3;
+    sampleSize[axis] = meshSize[axis] * m_FoldingSamplesPerCell;
+    numberOfControlPoints *= controlSize[axis];
+    numberOfSamples *= sampleSize[axis];
+  }
+  constexpr unsigned int support = 4;
+  size_t                 supportSize = 1;
+  for (unsigned int axis = 0; axis < NDimensions; ++axis)
+  {
+    supportSize *= support;
+  }
+
+  double                                           penalty = 0.0;
+  double                                           minimumDeterminant = NumericTraits<double>::max();
+  std::array<size_t, NDimensions>                  sample{};
+  std::vector<std::array<double, NDimensions>>     basisGradients(supportSize);
+  std::vector<size_t>                              controlIndices(supportSize);
+  for (size_t s = 0; s < numberOfSamples; ++s)
+  {
+    // Basis values and parametric derivatives along each axis at this sample.
+    double       values[NDimensions][support];
+    double       derivatives[NDimensions][support];
+    unsigned int first[NDimensions];
+    for (unsigned int axis = 0; axis < NDimensions; ++axis)
+    {
+      const unsigned int cell = static_cast<unsigned int>(sample[axis] / m_FoldingSamplesPerCell);
+      const double       t = cell + (sample[axis] % m_FoldingSamplesPerCell + 0.5) / m_FoldingSamplesPerCell;
+      first[axis] = cell;
+      for (unsigned int k = 0; k < support; ++k)
+      {
+        const double u = t - (static_cast<double>(cell + k) - 1.0);
+        values[axis][k] = detail::CubicBSplineDerivative(u, 0);
+        derivatives[axis][k] = detail::CubicBSplineDerivative(u, 1) / spacing[axis];
+      }
+    }
+    double jacobian[NDimensions][NDimensions];
+    for (unsigned int a = 0; a < NDimensions; ++a)
+    {
+      for (unsigned int b = 0; b < NDimensions; ++b)
+      {
+        jacobian[a][b] = (a == b) ? 1.0 : 0.0;
+      }
+    }
+    for (size_t local = 0; local < supportSize; ++local)
+    {
+      size_t rest = local;
+      size_t controlIndex = 0;
+      size_t stride = 1;
+      double gradientGrid[NDimensions];
+      for (unsigned int axis = 0; axis < NDimensions; ++axis)
+      {
+        gradientGrid[axis] = 1.0;
+      }
+      for (unsigned int axis = 0; axis < NDimensions; ++axis)
+      {
+        const unsigned int k = rest % support;
+        rest /= support;
+        controlIndex += (first[axis] + k) * stride;
+        stride *= controlSize[axis];
+        for (unsigned int g = 0; g < NDimensions; ++g)
+        {
+          gradientGrid[g] *= (g == axis) ? derivatives[axis][k] : values[axis][k];
+        }
+      }
+      // Gradient in physical space: rotate the grid-frame gradient by the grid's direction.
+      std::array<double, NDimensions> physical{};
+      for (unsigned int b = 0; b < NDimensions; ++b)
+      {
+        for (unsigned int g = 0; g < NDimensions; ++g)
+        {
+          physical[b] += direction[b][g] * gradientGrid[g];
+        }
+      }
+      basisGradients[local] = physical;
+      controlIndices[local] = controlIndex;
+      for (unsigned int a = 0; a < NDimensions; ++a)
+      {
+        const double coefficient = parameters[a * numberOfControlPoints + controlIndex];
+        for (unsigned int b = 0; b < NDimensions; ++b)
+        {
+          jacobian[a][b] += coefficient * physical[b];
+        }
+      }
+    }
+    double       cofactors[NDimensions][NDimensions];
+    const double determinant = detail::DeterminantAndCofactors<NDimensions>(jacobian, cofactors);
+    minimumDeterminant = std::min(minimumDeterminant, determinant);
+    const double shortfall = m_FoldingThreshold - determinant;
+    if (shortfall > 0.0)
+    {
+      penalty += shortfall * shortfall;
+      if (gradient != nullptr)
+      {
+        // d(shortfall^2)/dc_{k,a} = -2 shortfall * sum_b cof_ab dB_k/dx_b, averaged over the samples.
+        const double scale = -2.0 * shortfall * gradientFactor / static_cast<double>(numberOfSamples);
+        for (size_t local = 0; local < supportSize; ++local)
+        {
+          for (unsigned int a = 0; a < NDimensions; ++a)
+          {
+            double sum = 0.0;
+            for (unsigned int b = 0; b < NDimensions; ++b)
+            {
+              sum += cofactors[a][b] * basisGradients[local][b];
+            }
+            (*gradient)[a * numberOfControlPoints + controlIndices[local]] += scale * sum;
+          }
+        }
+      }
+    }
+    for (unsigned int axis = 0; axis < NDimensions; ++axis)
+    {
+      if (++sample[axis] < sampleSize[axis])
+      {
+        break;
+      }
+      sample[axis] = 0;
+    }
+  }
+  m_LastMinimumJacobianDeterminant = minimumDeterminant;
+  return penalty / static_cast<double>(numberOfSamples);
+}
+
+template <typename TParametersValueType, unsigned int NDimensions>
+void
+BSplineDeformationPenalty<TParametersValueType, NDimensions>::PrintSelf(std::ostream & os, Indent indent) const
+{
+  Superclass::PrintSelf(os, indent);
+  os << indent << "BendingEnergyWeight: " << m_BendingEnergyWeight << std::endl;
+  os << indent << "FoldingPenaltyWeight: " << m_FoldingPenaltyWeight << std::endl;
+  os << indent << "FoldingThreshold: " << m_FoldingThreshold << std::endl;
+  os << indent << "FoldingSamplesPerCell: " << m_FoldingSamplesPerCell << std::endl;
+  os << indent << "LastBendingEnergy: " << m_LastBendingEnergy << std::endl;
+  os << indent << "LastFoldingPenalty: " << m_LastFoldingPenalty << std::endl;
+  os << indent << "LastMinimumJacobianDeterminant: " << m_LastMinimumJacobianDeterminant << std::endl;
+  os << indent << "CachedMeshSize: " << m_CachedMeshSize << std::endl;
+  os << indent << "GramMatricesValid: " << (m_GramMatricesValid ? "On" : "Off") << std::endl;
+}
+} // namespace itk
+
+#endif // itkBSplineDeformationPenalty_hxx
