@@ -26,13 +26,12 @@ itk_module(FFDShapeMatching
     ITKIOImageBase
     ITKIOMeshBase
     ITKIOTransformBase
-  COMPILE_DEPENDS
-    ITKImageSources
-  PRIVATE_DEPENDS
     ITKIOMeshOFF
     ITKIOMeshOBJ
     ITKIOMeshVTK
     ITKIOTransformInsightLegacy
+  COMPILE_DEPENDS
+    ITKImageSources
   TEST_DEPENDS
     ITKTestKernel
     ITKGoogleTest

@@ -44,6 +44,12 @@ namespace itk
  * container order), GetInverseResiduals() the final residual per vertex, and
  * GetNumberOfNonConvergedPoints() their count. These are valid after Update() in inverse mode.
  *
+ * A vertex can lack a preimage altogether: a folding transform does not cover all of space, and BSplineTransform
+ * jumps to zero displacement outside its domain, so inside the domain, closer to its boundary than the largest
+ * displacement, some points are images of nothing. Such vertices are flagged. Vertices outside the domain of a
+ * B-spline map to themselves (converged). Farther inside than the largest displacement, a non-folding B-spline
+ * always has a preimage and the inverse converges.
+ *
  * The spatial Jacobian comes from detail::SpatialJacobianEvaluator: analytic for cubic
  * BSplineTransform (ITK 5.2's lacks ComputeJacobianWithRespectToPosition) and for CompositeTransform
  * by the chain rule, the transform's own otherwise, central finite differences as a last resort.

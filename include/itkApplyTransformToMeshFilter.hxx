@@ -158,8 +158,8 @@ ApplyTransformToMeshFilter<TInputMesh, TOutputMesh, TTransform>::InvertPoint(
   double                 residualVector[PointDimension];
 
   const auto evaluate = [&transform, &target](const TransformPointType & x, double(&r)[PointDimension]) -> double {
-    const auto   image = transform.TransformPoint(x);
-    double       squaredNorm = 0.0;
+    const auto image = transform.TransformPoint(x);
+    double     squaredNorm = 0.0;
     for (unsigned int i = 0; i < PointDimension; ++i)
     {
       r[i] = static_cast<double>(image[i]) - static_cast<double>(target[i]);

@@ -53,6 +53,20 @@ public:
     MRFPar
   };
 
+  /** Image similarity measure of a voxel-image registration. */
+  enum class ImageMetric : uint8_t
+  {
+    MattesMutualInformation,
+    MeanSquares
+  };
+
+  /** Gradient-based optimizer of a voxel-image registration. */
+  enum class Optimizer : uint8_t
+  {
+    LBFGSB,
+    RegularStepGradientDescent
+  };
+
   /** The command-line spelling of a method: "go", "mrf", "par", "go+par" or "mrf+par". */
   static std::string
   MethodToString(Method method);
@@ -66,6 +80,14 @@ public:
 /** Prints the qualified name of the enumerator, e.g. "itk::FFDShapeMatchingEnums::Method::GO". */
 extern FFDShapeMatching_EXPORT std::ostream &
                                operator<<(std::ostream & out, const FFDShapeMatchingEnums::Method value);
+
+/** Prints the qualified name of the enumerator. */
+extern FFDShapeMatching_EXPORT std::ostream &
+                               operator<<(std::ostream & out, const FFDShapeMatchingEnums::ImageMetric value);
+
+/** Prints the qualified name of the enumerator. */
+extern FFDShapeMatching_EXPORT std::ostream &
+                               operator<<(std::ostream & out, const FFDShapeMatchingEnums::Optimizer value);
 
 } // namespace itk
 

@@ -111,7 +111,9 @@ ClosestPointOnTriangle(const TPoint & p, const TPoint & a, const TPoint & b, con
   const auto dot = [](const double * u, const double * v) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; };
 
   // Degenerate triangle: the closest of its three edges.
-  const double normal[3] = { ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2], ab[0] * ac[1] - ab[1] * ac[0] };
+  const double normal[3] = { ab[1] * ac[2] - ab[2] * ac[1],
+                             ab[2] * ac[0] - ab[0] * ac[2],
+                             ab[0] * ac[1] - ab[1] * ac[0] };
   const double maxEdgeSquared = std::max(dot(ab, ab), std::max(dot(ac, ac), dot(bc, bc)));
   if (dot(normal, normal) <= 1e-24 * maxEdgeSquared * maxEdgeSquared)
   {
@@ -186,8 +188,7 @@ ClosestPointOnTriangle(const TPoint & p, const TPoint & a, const TPoint & b, con
   double squaredDistance = 0.0;
   for (unsigned int i = 0; i < 3; ++i)
   {
-    const double q =
-      u * static_cast<double>(a[i]) + v * static_cast<double>(b[i]) + w * static_cast<double>(c[i]);
+    const double q = u * static_cast<double>(a[i]) + v * static_cast<double>(b[i]) + w * static_cast<double>(c[i]);
     closest[i] = static_cast<typename std::decay<decltype(closest[i])>::type>(q);
     const double d = static_cast<double>(p[i]) - q;
     squaredDistance += d * d;

@@ -150,8 +150,7 @@ public:
       case Method::Composite:
         this->EvaluateComposite(point, jacobian);
         break;
-      case Method::Native:
-      {
+      case Method::Native: {
         typename TransformType::JacobianPositionType native;
         m_Transform->ComputeJacobianWithRespectToPosition(point, native);
         for (unsigned int i = 0; i < NDimensions; ++i)
@@ -242,10 +241,10 @@ private:
       }
     }
     // G(d, j) = d displacement_d / d index_j
-    double         gradient[NDimensions][NDimensions] = {};
-    unsigned int   offset[NDimensions] = {};
-    SizeValueType  strides[NDimensions];
-    SizeValueType  stride = 1;
+    double        gradient[NDimensions][NDimensions] = {};
+    unsigned int  offset[NDimensions] = {};
+    SizeValueType strides[NDimensions];
+    SizeValueType stride = 1;
     for (unsigned int i = 0; i < NDimensions; ++i)
     {
       strides[i] = stride;
@@ -326,15 +325,15 @@ private:
     }
   }
 
-  const TransformType *                                m_Transform{ nullptr };
-  Method                                               m_Method{ Method::None };
-  double                                               m_FiniteDifferenceStep{ 1e-4 };
-  std::vector<std::unique_ptr<SpatialJacobianEvaluator>> m_Children;
-  Size<NDimensions>                                    m_GridSize{};
-  PointType                                            m_GridOrigin{};
-  MatrixType                                           m_PhysicalToIndex{};
-  const TParametersValueType *                         m_Coefficients[NDimensions] = {};
-  typename BSplineKernelFunction<3, double>::Pointer   m_Kernel;
+  const TransformType *                                        m_Transform{ nullptr };
+  Method                                                       m_Method{ Method::None };
+  double                                                       m_FiniteDifferenceStep{ 1e-4 };
+  std::vector<std::unique_ptr<SpatialJacobianEvaluator>>       m_Children;
+  Size<NDimensions>                                            m_GridSize{};
+  PointType                                                    m_GridOrigin{};
+  MatrixType                                                   m_PhysicalToIndex{};
+  const TParametersValueType *                                 m_Coefficients[NDimensions] = {};
+  typename BSplineKernelFunction<3, double>::Pointer           m_Kernel;
   typename BSplineDerivativeKernelFunction<3, double>::Pointer m_DerivativeKernel;
 };
 } // namespace detail

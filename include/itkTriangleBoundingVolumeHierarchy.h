@@ -37,7 +37,8 @@ namespace detail
  * {|\mathbf{a}||\mathbf{b}||\mathbf{c}| + (\mathbf{a}\cdot\mathbf{b})|\mathbf{c}| + (\mathbf{b}\cdot\mathbf{c})
  * |\mathbf{a}| + (\mathbf{c}\cdot\mathbf{a})|\mathbf{b}|}\f$ with the vertices taken relative to q
  * (IEEE Trans. Biomed. Eng. 30(2):125-126, 1983, doi:10.1109/TBME.1983.325207). Positive when q
- * sees the triangle's counter-clockwise side, i.e. lies behind its right-hand normal.
+ * lies behind the triangle, on the side opposite its normal \f$(b-a)\times(c-a)\f$: inside a closed
+ * surface whose normals point outwards.
  * \ingroup FFDShapeMatching
  */
 inline double
@@ -53,8 +54,8 @@ TriangleSolidAngle(const std::array<double, 3> & q,
   const double lb = std::sqrt(bx * bx + by * by + bz * bz);
   const double lc = std::sqrt(cx * cx + cy * cy + cz * cz);
   const double determinant = ax * (by * cz - bz * cy) - ay * (bx * cz - bz * cx) + az * (bx * cy - by * cx);
-  const double denominator =
-    la * lb * lc + (ax * bx + ay * by + az * bz) * lc + (bx * cx + by * cy + bz * cz) * la + (cx * ax + cy * ay + cz * az) * lb;
+  const double denominator = la * lb * lc + (ax * bx + ay * by + az * bz) * lc + (bx * cx + by * cy + bz * cz) * la +
+                             (cx * ax + cy * ay + cz * az) * lb;
   return 2.0 * std::atan2(determinant, denominator);
 }
 
@@ -72,8 +73,12 @@ TriangleSolidAngle(const std::array<double, 3> & q,
  * - AnyTriangleWithin() answers "is some triangle within distance r", stopping at the first one.
  * - WindingNumber() evaluates the generalized winding number
  *   \f$w(q) = \frac{1}{4\pi}\sum_i \Omega_i(q)\f$ (Jacobson et al. 2013) with the hierarchical
- *   first-order (dipole) approximation of Barill et al. 2018: a node whose ball is far enough,
- *   \f$|q - \tilde{p}| > \beta r\f$, contributes \f$\frac{(\tilde{p} - q)\cdot\mathbf{N}}{4\pi|\tilde{p} - q|^3}\f$;
+ *   far-field expansion of Barill et al. 2018: a node whose ball is far enough,
+ *   \f$|q - \tilde{p}| > \beta r\f$, contributes the first two terms of the Taylor expansion of the
+ *   dipole field around \f$\tilde{p}\f$: with \f$\mathbf{d} = \tilde{p} - q\f$ and the moment
+ *   \f$M = \sum_i a_i \mathbf{n}_i (\mathbf{c}_i - \tilde{p})^T\f$ (\f$\mathbf{c}_i\f$ the centroids),
+ *   \f$\frac{1}{4\pi}\left(\frac{\mathbf{N}\cdot\mathbf{d} + \mathrm{tr} M}{|\mathbf{d}|^3}
+ *   - \frac{3\,\mathbf{d}^T M \mathbf{d}}{|\mathbf{d}|^5}\right)\f$;
  *   other nodes are opened, and the triangles of close leaves are summed exactly.
  *   \f$\beta = 0\f$ gives the exact sum.
  *
@@ -246,9 +251,15 @@ public:
       const double     distanceSquared = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
       if (beta > 0.0 && distanceSquared > beta * beta * node.radius * node.radius)
       {
+        // First order N.d / |d|^3, second order tr(M) / |d|^3 - 3 d'Md / |d|^5, with d = p~ - q.
         const double distance = std::sqrt(distanceSquared);
-        solidAngle += (d[0] * node.dipole[0] + d[1] * node.dipole[1] + d[2] * node.dipole[2]) /
-                      (distanceSquared * distance);
+        const double inverseCube = 1.0 / (distanceSquared * distance);
+        const auto & m = node.moment;
+        const double dMd = d[0] * (m[0] * d[0] + m[1] * d[1] + m[2] * d[2]) +
+                           d[1] * (m[3] * d[0] + m[4] * d[1] + m[5] * d[2]) +
+                           d[2] * (m[6] * d[0] + m[7] * d[1] + m[8] * d[2]);
+        solidAngle += inverseCube * (d[0] * node.dipole[0] + d[1] * node.dipole[1] + d[2] * node.dipole[2] + m[0] +
+                                     m[4] + m[8] - 3.0 * dMd / distanceSquared);
       }
       else if (node.count > 0)
       {
@@ -272,15 +283,17 @@ private:
 
   struct Node
   {
-    VectorType    boxMin;
-    VectorType    boxMax;
-    VectorType    center;
-    VectorType    dipole;
-    double        radius;
-    std::uint32_t first;
-    std::uint32_t count; // > 0 for leaves
-    std::uint32_t left;
-    std::uint32_t right;
+    VectorType boxMin;
+    VectorType boxMax;
+    VectorType center;
+    VectorType dipole;
+    // Second-order moment M(j, k) = sum_i a_i n_i(j) (c_i - p~)(k), row-major.
+    std::array<double, 9> moment;
+    double                radius;
+    std::uint32_t         first;
+    std::uint32_t         count; // > 0 for leaves
+    std::uint32_t         left;
+    std::uint32_t         right;
   };
 
   static double
@@ -300,7 +313,7 @@ private:
   {
     const auto index = static_cast<std::uint32_t>(m_Nodes.size());
     m_Nodes.emplace_back();
-    Node node{};
+    Node         node{};
     const double infinity = std::numeric_limits<double>::infinity();
     node.boxMin = { infinity, infinity, infinity };
     node.boxMax = { -infinity, -infinity, -infinity };
@@ -345,9 +358,29 @@ private:
       node.center[k] = totalArea > 0.0 ? weightedCenter[k] / totalArea : plainCenter[k] / count;
     }
     node.radius = 0.0;
+    node.moment.fill(0.0);
     for (std::uint32_t i = first; i < first + count; ++i)
     {
       const Triangle & t = m_Triangles[i];
+      VectorType       ab;
+      VectorType       ac;
+      VectorType       offset;
+      for (unsigned int k = 0; k < 3; ++k)
+      {
+        ab[k] = t.b[k] - t.a[k];
+        ac[k] = t.c[k] - t.a[k];
+        offset[k] = (t.a[k] + t.b[k] + t.c[k]) / 3.0 - node.center[k];
+      }
+      const VectorType areaNormal = { 0.5 * (ab[1] * ac[2] - ab[2] * ac[1]),
+                                      0.5 * (ab[2] * ac[0] - ab[0] * ac[2]),
+                                      0.5 * (ab[0] * ac[1] - ab[1] * ac[0]) };
+      for (unsigned int j = 0; j < 3; ++j)
+      {
+        for (unsigned int k = 0; k < 3; ++k)
+        {
+          node.moment[3 * j + k] += areaNormal[j] * offset[k];
+        }
+      }
       for (const VectorType * v : { &t.a, &t.b, &t.c })
       {
         const double dx = (*v)[0] - node.center[0];

@@ -84,4 +84,34 @@ operator<<(std::ostream & out, const FFDShapeMatchingEnums::Method value)
     return "INVALID VALUE FOR itk::FFDShapeMatchingEnums::Method";
   }();
 }
+
+std::ostream &
+operator<<(std::ostream & out, const FFDShapeMatchingEnums::ImageMetric value)
+{
+  return out << [value] {
+    switch (value)
+    {
+      case FFDShapeMatchingEnums::ImageMetric::MattesMutualInformation:
+        return "itk::FFDShapeMatchingEnums::ImageMetric::MattesMutualInformation";
+      case FFDShapeMatchingEnums::ImageMetric::MeanSquares:
+        return "itk::FFDShapeMatchingEnums::ImageMetric::MeanSquares";
+    }
+    return "INVALID VALUE FOR itk::FFDShapeMatchingEnums::ImageMetric";
+  }();
+}
+
+std::ostream &
+operator<<(std::ostream & out, const FFDShapeMatchingEnums::Optimizer value)
+{
+  return out << [value] {
+    switch (value)
+    {
+      case FFDShapeMatchingEnums::Optimizer::LBFGSB:
+        return "itk::FFDShapeMatchingEnums::Optimizer::LBFGSB";
+      case FFDShapeMatchingEnums::Optimizer::RegularStepGradientDescent:
+        return "itk::FFDShapeMatchingEnums::Optimizer::RegularStepGradientDescent";
+    }
+    return "INVALID VALUE FOR itk::FFDShapeMatchingEnums::Optimizer";
+  }();
+}
 } // namespace itk

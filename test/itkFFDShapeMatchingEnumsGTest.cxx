@@ -68,3 +68,15 @@ TEST(FFDShapeMatchingEnums, RejectsUnknownSpellings)
     EXPECT_EQ(parsed, MethodEnum::Par);
   }
 }
+
+TEST(FFDShapeMatchingEnums, PrintsMetricAndOptimizerNames)
+{
+  std::ostringstream stream;
+  stream << itk::FFDShapeMatchingEnums::ImageMetric::MeanSquares << ' '
+         << itk::FFDShapeMatchingEnums::Optimizer::RegularStepGradientDescent << ' '
+         << static_cast<itk::FFDShapeMatchingEnums::ImageMetric>(9);
+  EXPECT_EQ(stream.str(),
+            "itk::FFDShapeMatchingEnums::ImageMetric::MeanSquares "
+            "itk::FFDShapeMatchingEnums::Optimizer::RegularStepGradientDescent "
+            "INVALID VALUE FOR itk::FFDShapeMatchingEnums::ImageMetric");
+}

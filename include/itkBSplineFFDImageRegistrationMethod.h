@@ -1,0 +1,217 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkBSplineFFDImageRegistrationMethod_h
+#define itkBSplineFFDImageRegistrationMethod_h
+
+#include "itkBSplineTransform.h"
+#include "itkDataObjectDecorator.h"
+#include "itkFFDShapeMatchingEnums.h"
+#include "itkImage.h"
+#include "itkProcessObject.h"
+#include "itkTransform.h"
+#include <string>
+#include <vector>
+
+namespace itk
+{
+/** \class BSplineFFDImageRegistrationMethod
+ * \brief Registers two voxel images with a cubic B-spline free-form deformation by gradient-based global
+ * optimization (the "GO" method of the FFDShapeMatching pipeline).
+ *
+ * This pipeline object composes ITK's own registration parts: ImageRegistrationMethodv4, a BSplineTransform
+ * initialized over the fixed image by BSplineTransformInitializer with NumberOfControlPointsPerAxis control
+ * points per axis, the Mattes mutual-information or mean-squares v4 metric (regularized by
+ * RegularizedImageToImageMetricv4 with the B-spline bending energy and a folding penalty), and the
+ * LBFGSB or regular-step gradient-descent v4 optimizer. A multi-resolution schedule (NumberOfLevels,
+ * shrinking the images by 2 per level and smoothing them) refines the control grid between levels with
+ * BSplineTransformParametersAdaptor. An optional affine stage (moments initialization, affine Mattes MI)
+ * runs first.
+ *
+ * Inputs: the fixed image (index 0; in shape matching the target's voxel image), the moving image
+ * (the source's) and an optional fixed-image mask restricting the metric's samples (non-zero = used;
+ * e.g. a band around the target surface).
+ * Output: the transform T, fixed space to moving space (ITK's convention), as a decorated
+ * Transform<double, 3, 3> (GetTransformOutput()), ready to connect into a mesh-transform filter. Without the
+ * affine stage it is the BSplineTransform itself; with it, a CompositeTransform applying the B-spline first,
+ * then the affine transform.
+ *
+ * Progress is reported per optimizer iteration; an IterationEvent is invoked with each, and the metric value
+ * trajectory is kept (GetMetricValues()).
+ *
+ * \sa RegularizedImageToImageMetricv4, ImageRegistrationMethodv4, BSplineTransform
+ * \ingroup FFDShapeMatching
+ */
+template <typename TFixedImage, typename TMovingImage = TFixedImage>
+class ITK_TEMPLATE_EXPORT BSplineFFDImageRegistrationMethod : public ProcessObject
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(BSplineFFDImageRegistrationMethod);
+
+  using Self = BSplineFFDImageRegistrationMethod;
+  using Superclass = ProcessObject;
+  using Pointer = SmartPointer<Self>;
+  using ConstPointer = SmartPointer<const Self>;
+
+  itkNewMacro(Self);
+  itkTypeMacro(BSplineFFDImageRegistrationMethod, ProcessObject);
+
+  static constexpr unsigned int ImageDimension = TFixedImage::ImageDimension;
+
+  using FixedImageType = TFixedImage;
+  using MovingImageType = TMovingImage;
+  using MaskImageType = Image<unsigned char, ImageDimension>;
+  using TransformType = Transform<double, ImageDimension, ImageDimension>;
+  using BSplineTransformType = BSplineTransform<double, ImageDimension, 3>;
+  using DecoratedTransformType = DataObjectDecorator<TransformType>;
+  using ImageMetricEnum = FFDShapeMatchingEnums::ImageMetric;
+  using OptimizerEnum = FFDShapeMatchingEnums::Optimizer;
+
+  /** The fixed image (target). */
+  itkSetInputMacro(FixedImage, FixedImageType);
+  itkGetInputMacro(FixedImage, FixedImageType);
+
+  /** The moving image (source). */
+  itkSetInputMacro(MovingImage, MovingImageType);
+  itkGetInputMacro(MovingImage, MovingImageType);
+
+  /** Optional mask of the fixed image: the metric samples only where it is non-zero. */
+  itkSetInputMacro(FixedImageMask, MaskImageType);
+  itkGetInputMacro(FixedImageMask, MaskImageType);
+
+  /** The estimated transform, fixed space to moving space. */
+  const DecoratedTransformType *
+  GetTransformOutput() const;
+
+  /** The estimated transform itself (null before Update()). */
+  const TransformType *
+  GetTransform() const;
+
+  /** Control points per axis of the final B-spline grid (ITK mesh size N - 3). At least 4. Default: 20. */
+  itkSetClampMacro(NumberOfControlPointsPerAxis, unsigned int, 4, 1000);
+  itkGetConstMacro(NumberOfControlPointsPerAxis, unsigned int);
+
+  /** Image similarity. Default: Mattes mutual information (the paper's measure). */
+  itkSetEnumMacro(Metric, ImageMetricEnum);
+  itkGetEnumMacro(Metric, ImageMetricEnum);
+
+  /** Optimizer. Default: LBFGSB. */
+  itkSetEnumMacro(Optimizer, OptimizerEnum);
+  itkGetEnumMacro(Optimizer, OptimizerEnum);
+
+  /** Histogram bins of the Mattes metric. Default: 32. */
+  itkSetClampMacro(NumberOfHistogramBins, unsigned int, 5, 512);
+  itkGetConstMacro(NumberOfHistogramBins, unsigned int);
+
+  /** Fraction of (masked) fixed voxels sampled by the metric, in (0, 1]; 1 uses every voxel. Default: 1. */
+  itkSetClampMacro(SamplingPercentage, double, 1e-6, 1.0);
+  itkGetConstMacro(SamplingPercentage, double);
+
+  /** Seed of the random metric sampling. Default: 121212. */
+  itkSetMacro(RandomSeed, int);
+  itkGetConstMacro(RandomSeed, int);
+
+  /** Resolution levels; level l (from 0) shrinks the images by 2^(L-1-l) and uses a control grid about as
+   * much coarser. Default: 1. */
+  itkSetClampMacro(NumberOfLevels, unsigned int, 1, 8);
+  itkGetConstMacro(NumberOfLevels, unsigned int);
+
+  /** Maximum optimizer iterations per level. Default: 100. */
+  itkSetClampMacro(NumberOfIterations, unsigned int, 1, NumericTraits<unsigned int>::max());
+  itkGetConstMacro(NumberOfIterations, unsigned int);
+
+  /** LBFGSB's projected-gradient tolerance, or the regular-step optimizer's minimum step length (mm).
+   * Default: 1e-5. */
+  itkSetMacro(ConvergenceTolerance, double);
+  itkGetConstMacro(ConvergenceTolerance, double);
+
+  /** Weight of the B-spline bending energy added to the metric. Default: 0. */
+  itkSetClampMacro(BendingEnergyWeight, double, 0.0, NumericTraits<double>::max());
+  itkGetConstMacro(BendingEnergyWeight, double);
+
+  /** Weight of the folding penalty added to the metric. Default: 0. */
+  itkSetClampMacro(FoldingPenaltyWeight, double, 0.0, NumericTraits<double>::max());
+  itkGetConstMacro(FoldingPenaltyWeight, double);
+
+  /** Run an affine registration (moments-initialized, Mattes MI) before the B-spline stage. Default: Off. */
+  itkSetMacro(UseAffineStage, bool);
+  itkGetConstMacro(UseAffineStage, bool);
+  itkBooleanMacro(UseAffineStage);
+
+  /** Metric value after each optimizer iteration, over all levels, of the last Update(). */
+  const std::vector<double> &
+  GetMetricValues() const
+  {
+    return m_MetricValues;
+  }
+
+  /** The optimizers' stop conditions of the last Update(), one line per stage and level. */
+  itkGetConstReferenceMacro(StopConditionDescription, std::string);
+
+  /** Control-grid mesh size (control points minus 3) used at a level. */
+  unsigned int
+  GetMeshSizeAtLevel(unsigned int level) const;
+
+protected:
+  BSplineFFDImageRegistrationMethod();
+  ~BSplineFFDImageRegistrationMethod() override = default;
+
+  void
+  VerifyPreconditions() ITKv5_CONST override;
+
+  void
+  GenerateData() override;
+
+  using Superclass::MakeOutput;
+  DataObjectPointer
+  MakeOutput(DataObjectPointerArraySizeType) override;
+
+  void
+  PrintSelf(std::ostream & os, Indent indent) const override;
+
+private:
+  using AffineTransformPointer = typename Transform<double, ImageDimension, ImageDimension>::Pointer;
+
+  AffineTransformPointer
+  RunAffineStage();
+
+  typename BSplineTransformType::Pointer
+  RunBSplineStage(const TransformType * movingInitialTransform);
+
+  unsigned int    m_NumberOfControlPointsPerAxis{ 20 };
+  ImageMetricEnum m_Metric{ ImageMetricEnum::MattesMutualInformation };
+  OptimizerEnum   m_Optimizer{ OptimizerEnum::LBFGSB };
+  unsigned int    m_NumberOfHistogramBins{ 32 };
+  double          m_SamplingPercentage{ 1.0 };
+  int             m_RandomSeed{ 121212 };
+  unsigned int    m_NumberOfLevels{ 1 };
+  unsigned int    m_NumberOfIterations{ 100 };
+  double          m_ConvergenceTolerance{ 1e-5 };
+  double          m_BendingEnergyWeight{ 0.0 };
+  double          m_FoldingPenaltyWeight{ 0.0 };
+  bool            m_UseAffineStage{ false };
+
+  std::vector<double> m_MetricValues{};
+  std::string         m_StopConditionDescription{};
+};
+} // namespace itk
+
+#ifndef ITK_MANUAL_INSTANTIATION
+#  include "itkBSplineFFDImageRegistrationMethod.hxx"
+#endif
+
+#endif // itkBSplineFFDImageRegistrationMethod_h

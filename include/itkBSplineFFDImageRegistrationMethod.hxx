@@ -1,0 +1,382 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkBSplineFFDImageRegistrationMethod_hxx
+#define itkBSplineFFDImageRegistrationMethod_hxx
+
+#include "itkBSplineFFDImageRegistrationMethod.h"
+#include "itkAffineTransform.h"
+#include "itkBSplineTransformInitializer.h"
+#include "itkBSplineTransformParametersAdaptor.h"
+#include "itkCenteredTransformInitializer.h"
+#include "itkCommand.h"
+#include "itkCompositeTransform.h"
+#include "itkImageMaskSpatialObject.h"
+#include "itkImageRegistrationMethodv4.h"
+#include "itkLBFGSBOptimizerv4.h"
+#include "itkMattesMutualInformationImageToImageMetricv4.h"
+#include "itkMeanSquaresImageToImageMetricv4.h"
+#include "itkRegistrationParameterScalesFromPhysicalShift.h"
+#include "itkRegularStepGradientDescentOptimizerv4.h"
+#include "itkRegularizedImageToImageMetricv4.h"
+#include <cmath>
+#include <sstream>
+
+namespace itk
+{
+template <typename TFixedImage, typename TMovingImage>
+BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::BSplineFFDImageRegistrationMethod()
+{
+  this->SetPrimaryInputName("FixedImage");
+  this->AddRequiredInputName("MovingImage", 1);
+  this->AddOptionalInputName("FixedImageMask", 2);
+  this->SetNumberOfRequiredOutputs(1);
+  this->SetNthOutput(0, this->MakeOutput(0));
+}
+
+template <typename TFixedImage, typename TMovingImage>
+auto
+BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::MakeOutput(DataObjectPointerArraySizeType)
+  -> DataObjectPointer
+{
+  return DecoratedTransformType::New().GetPointer();
+}
+
+template <typename TFixedImage, typename TMovingImage>
+auto
+BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::GetTransformOutput() const
+  -> const DecoratedTransformType *
+{
+  return static_cast<const DecoratedTransformType *>(this->ProcessObject::GetOutput(0));
+}
+
+template <typename TFixedImage, typename TMovingImage>
+auto
+BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::GetTransform() const -> const TransformType *
+{
+  return this->GetTransformOutput()->Get();
+}
+
+template <typename TFixedImage, typename TMovingImage>
+unsigned int
+BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::GetMeshSizeAtLevel(unsigned int level) const
+{
+  const unsigned int finalMeshSize = m_NumberOfControlPointsPerAxis - 3;
+  const unsigned int coarsening = m_NumberOfLevels - 1 - std::min(level, m_NumberOfLevels - 1);
+  const double       meshSize = std::round(finalMeshSize / std::pow(2.0, coarsening));
+  return std::max(1u, static_cast<unsigned int>(meshSize));
+}
+
+template <typename TFixedImage, typename TMovingImage>
+void
+BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::VerifyPreconditions() ITKv5_CONST
+{
+  Superclass::VerifyPreconditions();
+  const auto * fixed = this->GetFixedImage();
+  const auto * moving = this->GetMovingImage();
+  if (fixed->GetLargestPossibleRegion().GetNumberOfPixels() == 0 ||
+      moving->GetLargestPossibleRegion().GetNumberOfPixels() == 0)
+  {
+    itkExceptionMacro(<< "The fixed and moving images must not be empty");
+  }
+  const auto * mask = this->GetFixedImageMask();
+  if (mask != nullptr && mask->GetLargestPossibleRegion().GetNumberOfPixels() == 0)
+  {
+    itkExceptionMacro(<< "The fixed-image mask is empty");
+  }
+  const unsigned int shrink = 1u << (m_NumberOfLevels - 1);
+  for (unsigned int d = 0; d < ImageDimension; ++d)
+  {
+    if (fixed->GetLargestPossibleRegion().GetSize()[d] < 2 * shrink)
+    {
+      itkExceptionMacro(<< "The fixed image is too small (" << fixed->GetLargestPossibleRegion().GetSize()
+                        << ") for " << m_NumberOfLevels << " resolution levels");
+    }
+  }
+}
+
+template <typename TFixedImage, typename TMovingImage>
+void
+BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::GenerateData()
+{
+  m_MetricValues.clear();
+  m_StopConditionDescription.clear();
+  this->UpdateProgress(0.0f);
+
+  typename TransformType::Pointer affine;
+  if (m_UseAffineStage)
+  {
+    affine = this->RunAffineStage();
+  }
+  typename TransformType::Pointer result = this->RunBSplineStage(affine).GetPointer();
+  if (affine)
+  {
+    // ITK's composite applies the most recently added transform first: B-spline, then affine.
+    auto composite = CompositeTransform<double, ImageDimension>::New();
+    composite->AddTransform(affine);
+    composite->AddTransform(result);
+    result = composite;
+  }
+  auto * output = static_cast<DecoratedTransformType *>(this->ProcessObject::GetOutput(0));
+  output->Set(result);
+  this->UpdateProgress(1.0f);
+}
+
+template <typename TFixedImage, typename TMovingImage>
+auto
+BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunAffineStage() -> AffineTransformPointer
+{
+  using AffineType = AffineTransform<double, ImageDimension>;
+  using RegistrationType = ImageRegistrationMethodv4<FixedImageType, MovingImageType, AffineType>;
+  using MetricType = MattesMutualInformationImageToImageMetricv4<FixedImageType, MovingImageType>;
+  using OptimizerType = RegularStepGradientDescentOptimizerv4<double>;
+
+  auto affine = AffineType::New();
+  using InitializerType = CenteredTransformInitializer<AffineType, FixedImageType, MovingImageType>;
+  auto initializer = InitializerType::New();
+  initializer->SetTransform(affine);
+  initializer->SetFixedImage(this->GetFixedImage());
+  initializer->SetMovingImage(this->GetMovingImage());
+  initializer->MomentsOn();
+  initializer->InitializeTransform();
+
+  auto metric = MetricType::New();
+  metric->SetNumberOfHistogramBins(m_NumberOfHistogramBins);
+  auto optimizer = OptimizerType::New();
+  optimizer->SetLearningRate(1.0);
+  optimizer->SetMinimumStepLength(1e-3);
+  optimizer->SetRelaxationFactor(0.5);
+  optimizer->SetNumberOfIterations(m_NumberOfIterations);
+  auto scales = RegistrationParameterScalesFromPhysicalShift<MetricType>::New();
+  scales->SetMetric(metric);
+  optimizer->SetScalesEstimator(scales);
+  optimizer->SetDoEstimateLearningRateOnce(true);
+
+  auto registration = RegistrationType::New();
+  registration->SetFixedImage(this->GetFixedImage());
+  registration->SetMovingImage(this->GetMovingImage());
+  registration->SetInitialTransform(affine);
+  registration->InPlaceOn();
+  registration->SetMetric(metric);
+  registration->SetOptimizer(optimizer);
+  registration->SetNumberOfLevels(1);
+  typename RegistrationType::ShrinkFactorsArrayType shrink(1);
+  shrink[0] = 1;
+  registration->SetShrinkFactorsPerLevel(shrink);
+  typename RegistrationType::SmoothingSigmasArrayType sigmas(1);
+  sigmas[0] = 0.0;
+  registration->SetSmoothingSigmasPerLevel(sigmas);
+  registration->SetMetricSamplingStrategy(RegistrationType::MetricSamplingStrategyEnum::RANDOM);
+  registration->SetMetricSamplingPercentage(std::min(m_SamplingPercentage, 0.2));
+  registration->MetricSamplingReinitializeSeed(m_RandomSeed);
+  registration->Update();
+
+  std::ostringstream stop;
+  stop << "affine: " << optimizer->GetStopConditionDescription() << '\n';
+  m_StopConditionDescription += stop.str();
+  return affine.GetPointer();
+}
+
+template <typename TFixedImage, typename TMovingImage>
+auto
+BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunBSplineStage(
+  const TransformType * movingInitialTransform) -> typename BSplineTransformType::Pointer
+{
+  using RegistrationType = ImageRegistrationMethodv4<FixedImageType, MovingImageType, BSplineTransformType>;
+  using MattesType =
+    RegularizedImageToImageMetricv4<MattesMutualInformationImageToImageMetricv4<FixedImageType, MovingImageType>>;
+  using MeanSquaresType =
+    RegularizedImageToImageMetricv4<MeanSquaresImageToImageMetricv4<FixedImageType, MovingImageType>>;
+  using ImageMetricType = ImageToImageMetricv4<FixedImageType, MovingImageType>;
+
+  const auto * fixed = this->GetFixedImage();
+
+  // The transform: cubic B-spline over the fixed image, coarsest grid first.
+  auto transform = BSplineTransformType::New();
+  using InitializerType = BSplineTransformInitializer<BSplineTransformType, FixedImageType>;
+  auto                                        initializer = InitializerType::New();
+  typename BSplineTransformType::MeshSizeType meshSize;
+  meshSize.Fill(this->GetMeshSizeAtLevel(0));
+  initializer->SetTransform(transform);
+  initializer->SetImage(fixed);
+  initializer->SetTransformDomainMeshSize(meshSize);
+  initializer->InitializeTransform();
+  transform->SetIdentity();
+
+  // The metric, regularized.
+  typename ImageMetricType::Pointer metric;
+  if (m_Metric == ImageMetricEnum::MattesMutualInformation)
+  {
+    auto mattes = MattesType::New();
+    mattes->SetNumberOfHistogramBins(m_NumberOfHistogramBins);
+    mattes->GetPenalty()->SetBendingEnergyWeight(m_BendingEnergyWeight);
+    mattes->GetPenalty()->SetFoldingPenaltyWeight(m_FoldingPenaltyWeight);
+    metric = mattes;
+  }
+  else
+  {
+    auto meanSquares = MeanSquaresType::New();
+    meanSquares->GetPenalty()->SetBendingEnergyWeight(m_BendingEnergyWeight);
+    meanSquares->GetPenalty()->SetFoldingPenaltyWeight(m_FoldingPenaltyWeight);
+    metric = meanSquares;
+  }
+  if (const auto * mask = this->GetFixedImageMask())
+  {
+    using SpatialMaskType = ImageMaskSpatialObject<ImageDimension>;
+    auto spatialMask = SpatialMaskType::New();
+    spatialMask->SetImage(mask);
+    spatialMask->Update();
+    metric->SetFixedImageMask(spatialMask);
+  }
+
+  auto registration = RegistrationType::New();
+  registration->SetFixedImage(fixed);
+  registration->SetMovingImage(this->GetMovingImage());
+  if (movingInitialTransform != nullptr)
+  {
+    registration->SetMovingInitialTransform(movingInitialTransform);
+  }
+  registration->SetInitialTransform(transform);
+  registration->InPlaceOn();
+  registration->SetMetric(metric);
+
+  // Resolution schedule and control-grid refinement.
+  const unsigned int                                  levels = m_NumberOfLevels;
+  typename RegistrationType::ShrinkFactorsArrayType   shrink(levels);
+  typename RegistrationType::SmoothingSigmasArrayType sigmas(levels);
+  typename RegistrationType::TransformParametersAdaptorsContainerType adaptors;
+  for (unsigned int level = 0; level < levels; ++level)
+  {
+    const unsigned int factor = 1u << (levels - 1 - level);
+    shrink[level] = factor;
+    sigmas[level] = factor > 1 ? 0.5 * factor : 0.0;
+    using AdaptorType = BSplineTransformParametersAdaptor<BSplineTransformType>;
+    auto adaptor = AdaptorType::New();
+    typename BSplineTransformType::MeshSizeType levelMeshSize;
+    levelMeshSize.Fill(this->GetMeshSizeAtLevel(level));
+    adaptor->SetRequiredTransformDomainOrigin(transform->GetTransformDomainOrigin());
+    adaptor->SetRequiredTransformDomainPhysicalDimensions(transform->GetTransformDomainPhysicalDimensions());
+    adaptor->SetRequiredTransformDomainDirection(transform->GetTransformDomainDirection());
+    adaptor->SetRequiredTransformDomainMeshSize(levelMeshSize);
+    adaptors.push_back(adaptor.GetPointer());
+  }
+  registration->SetNumberOfLevels(levels);
+  registration->SetShrinkFactorsPerLevel(shrink);
+  registration->SetSmoothingSigmasPerLevel(sigmas);
+  registration->SmoothingSigmasAreSpecifiedInPhysicalUnitsOff();
+  registration->SetTransformParametersAdaptorsPerLevel(adaptors);
+  if (m_SamplingPercentage < 1.0)
+  {
+    registration->SetMetricSamplingStrategy(RegistrationType::MetricSamplingStrategyEnum::RANDOM);
+    registration->SetMetricSamplingPercentage(m_SamplingPercentage);
+    registration->MetricSamplingReinitializeSeed(m_RandomSeed);
+  }
+
+  // The optimizer.
+  const unsigned int finalNumberOfParameters =
+    ImageDimension * static_cast<unsigned int>(std::pow(m_NumberOfControlPointsPerAxis, ImageDimension));
+  typename ObjectToObjectOptimizerBaseTemplate<double>::Pointer optimizer;
+  typename LBFGSBOptimizerv4::Pointer                            lbfgsb;
+  if (m_Optimizer == OptimizerEnum::LBFGSB)
+  {
+    lbfgsb = LBFGSBOptimizerv4::New();
+    // Unbounded; sized for the finest grid (the optimizer accepts a longer selection).
+    LBFGSBOptimizerv4::BoundSelectionType bounds(finalNumberOfParameters);
+    bounds.Fill(LBFGSBOptimizerv4::UNBOUNDED);
+    lbfgsb->SetBoundSelection(bounds);
+    LBFGSBOptimizerv4::BoundValueType noBounds(finalNumberOfParameters);
+    noBounds.Fill(0.0);
+    lbfgsb->SetLowerBound(noBounds);
+    lbfgsb->SetUpperBound(noBounds);
+    lbfgsb->SetNumberOfIterations(m_NumberOfIterations);
+    lbfgsb->SetMaximumNumberOfFunctionEvaluations(2 * m_NumberOfIterations + 10);
+    lbfgsb->SetMaximumNumberOfCorrections(7);
+    lbfgsb->SetCostFunctionConvergenceFactor(1e7);
+    lbfgsb->SetGradientConvergenceTolerance(m_ConvergenceTolerance);
+    optimizer = lbfgsb.GetPointer();
+  }
+  else
+  {
+    using RSGDType = RegularStepGradientDescentOptimizerv4<double>;
+    auto rsgd = RSGDType::New();
+    rsgd->SetLearningRate(1.0);
+    rsgd->SetMinimumStepLength(m_ConvergenceTolerance);
+    rsgd->SetRelaxationFactor(0.7);
+    rsgd->SetNumberOfIterations(m_NumberOfIterations);
+    auto scales = RegistrationParameterScalesFromPhysicalShift<ImageMetricType>::New();
+    scales->SetMetric(metric);
+    rsgd->SetScalesEstimator(scales);
+    rsgd->SetDoEstimateLearningRateAtEachIteration(false);
+    rsgd->SetDoEstimateLearningRateOnce(true);
+    optimizer = rsgd.GetPointer();
+  }
+  registration->SetOptimizer(optimizer);
+
+  // Observers: metric trajectory and progress per iteration; LBFGSB restarts from the adapted transform.
+  const double totalIterations = static_cast<double>(m_NumberOfIterations) * levels;
+  auto recordIteration = [this, &optimizer, totalIterations]() {
+    m_MetricValues.push_back(optimizer->GetCurrentMetricValue());
+    this->UpdateProgress(static_cast<float>(std::min(0.99, m_MetricValues.size() / totalIterations)));
+    this->InvokeEvent(IterationEvent());
+  };
+  const unsigned long iterationTag = optimizer->AddObserver(IterationEvent(), [&recordIteration](const EventObject &) {
+    recordIteration();
+  });
+  unsigned long levelTag = 0;
+  if (lbfgsb)
+  {
+    levelTag = registration->AddObserver(MultiResolutionIterationEvent(), [&lbfgsb](const EventObject &) {
+      // An empty initial position makes LBFGSB start from the (adapted) transform's parameters.
+      lbfgsb->SetInitialPosition(typename LBFGSBOptimizerv4::ParametersType(0));
+    });
+  }
+  registration->Update();
+  optimizer->RemoveObserver(iterationTag);
+  if (lbfgsb)
+  {
+    registration->RemoveObserver(levelTag);
+  }
+
+  std::ostringstream stop;
+  stop << "b-spline: " << optimizer->GetStopConditionDescription() << '\n';
+  m_StopConditionDescription += stop.str();
+  return transform;
+}
+
+template <typename TFixedImage, typename TMovingImage>
+void
+BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::PrintSelf(std::ostream & os, Indent indent) const
+{
+  Superclass::PrintSelf(os, indent);
+  os << indent << "NumberOfControlPointsPerAxis: " << m_NumberOfControlPointsPerAxis << std::endl;
+  os << indent << "Metric: " << m_Metric << std::endl;
+  os << indent << "Optimizer: " << m_Optimizer << std::endl;
+  os << indent << "NumberOfHistogramBins: " << m_NumberOfHistogramBins << std::endl;
+  os << indent << "SamplingPercentage: " << m_SamplingPercentage << std::endl;
+  os << indent << "RandomSeed: " << m_RandomSeed << std::endl;
+  os << indent << "NumberOfLevels: " << m_NumberOfLevels << std::endl;
+  os << indent << "NumberOfIterations: " << m_NumberOfIterations << std::endl;
+  os << indent << "ConvergenceTolerance: " << m_ConvergenceTolerance << std::endl;
+  os << indent << "BendingEnergyWeight: " << m_BendingEnergyWeight << std::endl;
+  os << indent << "FoldingPenaltyWeight: " << m_FoldingPenaltyWeight << std::endl;
+  os << indent << "UseAffineStage: " << (m_UseAffineStage ? "On" : "Off") << std::endl;
+  os << indent << "MetricValues: " << m_MetricValues.size() << " iterations" << std::endl;
+  os << indent << "StopConditionDescription: " << m_StopConditionDescription << std::endl;
+}
+} // namespace itk
+
+#endif // itkBSplineFFDImageRegistrationMethod_hxx
