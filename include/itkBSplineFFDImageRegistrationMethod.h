@@ -35,8 +35,10 @@ namespace itk
  *
  * This pipeline object composes ITK's own registration parts: ImageRegistrationMethodv4, a BSplineTransform
  * initialized over the fixed image by BSplineTransformInitializer with NumberOfControlPointsPerAxis control
- * points per axis, the Mattes mutual-information or mean-squares v4 metric (regularized by
- * RegularizedImageToImageMetricv4 with the B-spline bending energy and a folding penalty), and the
+ * points per axis, the Mattes mutual-information or mean-squares measure (BSplineSparseImageToImageMetricv4,
+ * which gives the values and derivatives of ITK's Mattes and mean-squares v4 metrics at a cost per sample
+ * independent of the grid size; regularized by RegularizedImageToImageMetricv4 with the B-spline bending energy
+ * and a folding penalty), and the
  * LBFGSB or regular-step gradient-descent v4 optimizer. A multi-resolution schedule (NumberOfLevels,
  * shrinking the images by 2 per level and smoothing them) refines the control grid between levels with
  * BSplineTransformParametersAdaptor. An optional affine stage (moments initialization, affine Mattes MI)
