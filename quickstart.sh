@@ -21,12 +21,7 @@ cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release
 cmake --build "$build_dir" -j"$jobs"
 
 if [ "$action" = demo ]; then
-  if [ -x "$build_dir/bin/ffd-match" ]; then
-    "$build_dir/bin/ffd-match" --demo --output-dir demo-output
-  else
-    # Until the matching program lands, the demo is the module's own test programs.
-    (cd "$build_dir" && ctest -j"$jobs" -L FFDShapeMatching --output-on-failure)
-  fi
+  "$build_dir/apps/ffd-match" --demo --output-dir demo-output
 else
   (cd "$build_dir" && ctest -j"$jobs" --output-on-failure)
 fi
