@@ -26,6 +26,7 @@
 // Every output is written to a temporary name next to it and renamed at the end, so a failed run
 // leaves nothing half-written. Errors are one line on stderr and exit code 1.
 
+#include "FFDProgramSupport.h"
 #include "itkApplyTransformToMeshFilter.h"
 #include "itkBSplineFFDImageRegistrationMethod.h"
 #include "itkCommand.h"
@@ -75,7 +76,10 @@ using CorrespondenceErrorType = itk::PointCorrespondenceErrorCalculator<MeshType
 using JacobianFilterType = itk::TransformToJacobianDeterminantImageFilter<ImageType>;
 using ModeEnum = itk::TriangleMeshToVoxelImageFilterEnums::Mode;
 using MetricEnum = itk::FFDShapeMatchingEnums::ImageMetric;
-using ClockType = std::chrono::steady_clock;
+using ffd::ClockType;
+using ffd::JsonString;
+using ffd::OneLine;
+using ffd::SecondsSince;
 
 const char * const Usage =
   "usage: ffd-match --source S --target T --method go|mrf|par|go+par|mrf+par --output DEFORMED\n"
@@ -328,50 +332,6 @@ ParseArguments(int argc, char * argv[])
     throw Error("--source, --target and --output are required (see --help)");
   }
   return options;
-}
-
-double
-SecondsSince(ClockType::time_point start)
-{
-  return std::chrono::duration<double>(ClockType::now() - start).count();
-}
-
-// The first line of an exception text, without trailing blanks.
-std::string
-OneLine(const std::string & text)
-{
-  std::string line = text.substr(0, text.find('\n'));
-  while (!line.empty() && (line.back() == '\r' || line.back() == ' '))
-  {
-    line.pop_back();
-  }
-  return line;
-}
-
-std::string
-JsonString(const std::string & text)
-{
-  std::ostringstream out;
-  out << '"';
-  for (const char c : text)
-  {
-    if (c == '"' || c == '\\')
-    {
-      out << '\\' << c;
-    }
-    else if (static_cast<unsigned char>(c) < 0x20)
-    {
-      char buffer[8];
-      std::snprintf(buffer, sizeof(buffer), "\\u%04x", c);
-      out << buffer;
-    }
-    else
-    {
-      out << c;
-    }
-  }
-  out << '"';
-  return out.str();
 }
 
 // A number in JSON (non-finite values become null).

@@ -25,6 +25,7 @@
 // The output is written to a temporary file next to OUTPUT_IMAGE and renamed, so a failed run
 // leaves nothing half-written. Errors are one line on stderr and a non-zero exit code.
 
+#include "FFDProgramSupport.h"
 #include "itkImageFileReader.h"
 #include "itkImageFileWriter.h"
 #include "itkImageRegionConstIterator.h"
@@ -53,7 +54,10 @@ using MeshType = itk::Mesh<double, 3>;
 using MaskImageType = itk::Image<unsigned char, 3>;
 using RealImageType = itk::Image<float, 3>;
 using ModeEnum = itk::TriangleMeshToVoxelImageFilterEnums::Mode;
-using ClockType = std::chrono::steady_clock;
+using ffd::ClockType;
+using ffd::JsonString;
+using ffd::OneLine;
+using ffd::SecondsSince;
 
 const char * const Usage =
   "usage: ffd-voxelize MESH OUTPUT_IMAGE --mode occupancy|solid|sdf|band|winding --voxel-size S\n"
@@ -230,12 +234,6 @@ ParseArguments(int argc, char * argv[])
   return options;
 }
 
-double
-SecondsSince(ClockType::time_point start)
-{
-  return std::chrono::duration<double>(ClockType::now() - start).count();
-}
-
 // Temporary name next to the output, with the same extension(s) so the same image IO is chosen.
 std::string
 TemporaryName(const std::string & output)
@@ -247,32 +245,6 @@ TemporaryName(const std::string & output)
   const std::string extension = dot == std::string::npos ? std::string() : name.substr(dot);
   return directory + ".ffd-voxelize-" + std::to_string(getpid()) + "-" +
          (dot == std::string::npos ? name : name.substr(0, dot)) + extension;
-}
-
-std::string
-JsonString(const std::string & text)
-{
-  std::ostringstream out;
-  out << '"';
-  for (const char c : text)
-  {
-    if (c == '"' || c == '\\')
-    {
-      out << '\\' << c;
-    }
-    else if (static_cast<unsigned char>(c) < 0x20)
-    {
-      char buffer[8];
-      std::snprintf(buffer, sizeof(buffer), "\\u%04x", c);
-      out << buffer;
-    }
-    else
-    {
-      out << c;
-    }
-  }
-  out << '"';
-  return out.str();
 }
 
 template <typename TVector>
@@ -415,17 +387,6 @@ Run(const Options & options, ModeEnum mode, const MeshType * mesh, double readSe
   return EXIT_SUCCESS;
 }
 
-// The first line of an ITK exception description, without the file and line prefix.
-std::string
-OneLine(const std::string & text)
-{
-  std::string line = text.substr(0, text.find('\n'));
-  while (!line.empty() && (line.back() == '\r' || line.back() == ' '))
-  {
-    line.pop_back();
-  }
-  return line;
-}
 } // namespace
 
 int

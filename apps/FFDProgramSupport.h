@@ -1,0 +1,80 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef FFDProgramSupport_h
+#define FFDProgramSupport_h
+
+// Small helpers shared by the module's command-line programs (ffd-match, ffd-voxelize):
+// wall-clock timing, one-line error text and JSON string quoting.
+
+#include <chrono>
+#include <cstdio>
+#include <sstream>
+#include <string>
+
+namespace ffd
+{
+using ClockType = std::chrono::steady_clock;
+
+/** Seconds elapsed since \c start. */
+inline double
+SecondsSince(ClockType::time_point start)
+{
+  return std::chrono::duration<double>(ClockType::now() - start).count();
+}
+
+/** The first line of \c text, without trailing blanks: ITK's exception descriptions span several lines. */
+inline std::string
+OneLine(const std::string & text)
+{
+  std::string line = text.substr(0, text.find('\n'));
+  while (!line.empty() && (line.back() == '\r' || line.back() == ' '))
+  {
+    line.pop_back();
+  }
+  return line;
+}
+
+/** \c text as a quoted JSON string. */
+inline std::string
+JsonString(const std::string & text)
+{
+  std::ostringstream out;
+  out << '"';
+  for (const char c : text)
+  {
+    if (c == '"' || c == '\\')
+    {
+      out << '\\' << c;
+    }
+    else if (static_cast<unsigned char>(c) < 0x20)
+    {
+      char buffer[8];
+      std::snprintf(buffer, sizeof(buffer), "\\u%04x", c);
+      out << buffer;
+    }
+    else
+    {
+      out << c;
+    }
+  }
+  out << '"';
+  return out.str();
+}
+} // namespace ffd
+
+#endif // FFDProgramSupport_h
