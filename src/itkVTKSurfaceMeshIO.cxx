@@ -188,7 +188,7 @@ PLYTypeSize(const std::string & type)
 double
 DecodePLYValue(const char * data, const std::string & type, bool bigEndian)
 {
-  const unsigned int size = PLYTypeSize(type);
+  const unsigned int size = std::min(PLYTypeSize(type), 8u); // PLY scalars have at most 8 bytes
   char               bytes[8];
   std::copy(data, data + size, bytes);
   const bool systemIsBigEndian = ByteSwapper<int>::SystemIsBigEndian();
