@@ -19,11 +19,13 @@
 #define FFDProgramSupport_h
 
 // Small helpers shared by the module's command-line programs (ffd-match, ffd-voxelize):
-// wall-clock timing, one-line error text and JSON string quoting.
+// wall-clock timing, number parsing, one-line error text and JSON string quoting.
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 namespace ffd
@@ -35,6 +37,29 @@ inline double
 SecondsSince(ClockType::time_point start)
 {
   return std::chrono::duration<double>(ClockType::now() - start).count();
+}
+
+/** The finite number spelled by the whole of \c text, the value of command-line option \c option; throws
+ * \c TError (constructible from a message) otherwise. */
+template <typename TError>
+double
+ParseNumber(const std::string & option, const std::string & text)
+{
+  std::size_t used = 0;
+  double      value = 0.0;
+  try
+  {
+    value = std::stod(text, &used);
+  }
+  catch (const std::exception &)
+  {
+    used = 0;
+  }
+  if (text.empty() || used != text.size() || !std::isfinite(value))
+  {
+    throw TError(option + " needs a finite number, not '" + text + "'");
+  }
+  return value;
 }
 
 /** The first line of \c text, without trailing blanks: ITK's exception descriptions span several lines. */

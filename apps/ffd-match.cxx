@@ -153,21 +153,7 @@ struct Error : std::runtime_error
 double
 ParseNumber(const std::string & option, const std::string & text)
 {
-  std::size_t used = 0;
-  double      value = 0.0;
-  try
-  {
-    value = std::stod(text, &used);
-  }
-  catch (const std::exception &)
-  {
-    used = 0;
-  }
-  if (text.empty() || used != text.size() || !std::isfinite(value))
-  {
-    throw Error(option + " needs a finite number, not '" + text + "'");
-  }
-  return value;
+  return ffd::ParseNumber<Error>(option, text);
 }
 
 unsigned int

@@ -103,21 +103,7 @@ struct UsageError : std::runtime_error
 double
 ParseNumber(const std::string & option, const std::string & text)
 {
-  std::size_t used = 0;
-  double      value = 0.0;
-  try
-  {
-    value = std::stod(text, &used);
-  }
-  catch (const std::exception &)
-  {
-    used = 0;
-  }
-  if (used != text.size() || !std::isfinite(value))
-  {
-    throw UsageError(option + " needs a finite number, not '" + text + "'");
-  }
-  return value;
+  return ffd::ParseNumber<UsageError>(option, text);
 }
 
 Options
