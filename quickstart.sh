@@ -21,7 +21,13 @@ cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release
 cmake --build "$build_dir" -j"$jobs"
 
 if [ "$action" = demo ]; then
-  "$build_dir/apps/ffd-match" --demo --output-dir demo-output
+  # The demo's before/after picture renders off screen with VTK, which needs an X display: without one,
+  # run it under a virtual X server (Debian's xvfb, installed with the other dependencies).
+  if [ -z "${DISPLAY:-}" ] && command -v xvfb-run > /dev/null; then
+    xvfb-run -a "$build_dir/apps/ffd-match" --demo --output-dir demo-output
+  else
+    "$build_dir/apps/ffd-match" --demo --output-dir demo-output
+  fi
 else
   (cd "$build_dir" && ctest -j"$jobs" --output-on-failure)
 fi

@@ -15,7 +15,16 @@ set(FFDShapeMatching_VTK_COMPONENTS
   IOLegacy
   IOPLY
   IOXML)
-find_package(VTK 9.1 REQUIRED COMPONENTS ${FFDShapeMatching_VTK_COMPONENTS})
+# The programs' snapshot (ffd-match --snapshot) renders off screen. VTK's targets are imported once, here,
+# with every component the project uses, so that their own dependencies (X11, GLEW, ...) resolve in one
+# directory scope; the module library links only the components above.
+set(FFDShapeMatching_VTK_PROGRAM_COMPONENTS
+  IOImage
+  RenderingAnnotation
+  RenderingCore
+  RenderingFreeType
+  RenderingOpenGL2)
+find_package(VTK 9.1 REQUIRED COMPONENTS ${FFDShapeMatching_VTK_COMPONENTS} ${FFDShapeMatching_VTK_PROGRAM_COMPONENTS})
 set(FFDShapeMatching_VTK_LIBRARIES)
 foreach(_component IN LISTS FFDShapeMatching_VTK_COMPONENTS)
   list(APPEND FFDShapeMatching_VTK_LIBRARIES VTK::${_component})

@@ -26,10 +26,10 @@
 // Every output is written to a temporary name next to it and renamed at the end, so a failed run
 // leaves nothing half-written. Errors are one line on stderr and exit code 1.
 
+#include "FFDMatchMethods.h"
 #include "FFDProgramSupport.h"
+#include "FFDSnapshot.h"
 #include "itkApplyTransformToMeshFilter.h"
-#include "itkBSplineFFDImageRegistrationMethod.h"
-#include "itkCommand.h"
 #include "itkMesh.h"
 #include "itkMeshFileReader.h"
 #include "itkMeshFileWriter.h"
@@ -64,18 +64,18 @@
 
 namespace
 {
-using MeshType = itk::Mesh<double, 3>;
-using ImageType = itk::Image<float, 3>;
-using MaskImageType = itk::Image<unsigned char, 3>;
+using ffd::Error;
+using ffd::ImageType;
+using ffd::MaskImageType;
+using ffd::MeshType;
+using ffd::Options;
 using ImageVoxelizerType = itk::TriangleMeshToVoxelImageFilter<MeshType, ImageType>;
 using MaskVoxelizerType = itk::TriangleMeshToVoxelImageFilter<MeshType, MaskImageType>;
-using RegistrationType = itk::BSplineFFDImageRegistrationMethod<ImageType>;
 using ApplyType = itk::ApplyTransformToMeshFilter<MeshType, MeshType>;
 using SurfaceDistanceType = itk::MeshSurfaceDistanceCalculator<MeshType>;
 using CorrespondenceErrorType = itk::PointCorrespondenceErrorCalculator<MeshType>;
 using JacobianFilterType = itk::TransformToJacobianDeterminantImageFilter<ImageType>;
 using ModeEnum = itk::TriangleMeshToVoxelImageFilterEnums::Mode;
-using MetricEnum = itk::FFDShapeMatchingEnums::ImageMetric;
 using ffd::ClockType;
 using ffd::JsonString;
 using ffd::OneLine;
@@ -84,7 +84,9 @@ using ffd::SecondsSince;
 const char * const Usage =
   "usage: ffd-match --source S --target T --method go|mrf|par|go+par|mrf+par --output DEFORMED\n"
   "                 [--grid 20] [--voxel-size 1.0] [--voxelization occupancy|solid|sdf]\n"
-  "                 [--transform-out FILE.tfm] [--report FILE.json] [--threads N] [--seed S]\n"
+  "                 [--templates FILE.tfm] [--template-split none|control-point|axis]\n"
+  "                 [--transform-out FILE.tfm] [--report FILE.json] [--snapshot FILE.png]\n"
+  "                 [--threads N] [--seed S]\n"
   "                 [--levels L] [--iterations N] [--sampling P]\n"
   "                 [--bending-weight W] [--folding-weight W]\n"
   "       ffd-match --demo [--output-dir DIR] [same tuning options]\n"
@@ -101,6 +103,8 @@ const char * const Usage =
   "                  around the target surface.\n"
   "  --transform-out write T (target space -> source space) as an ITK transform file\n"
   "  --report        write a JSON report (stage times, metric per iteration, distances, ...)\n"
+  "  --snapshot      write a before/after picture (PNG; VTK off-screen rendering needs an X display:\n"
+  "                  run under xvfb-run on a machine without one)\n"
   "  --threads       number of threads (default all)\n"
   "  --seed          seed of the metric sampling (and of the demo's deformation), default 121212\n"
   "  --levels        resolution levels (default 2)\n"
@@ -109,45 +113,14 @@ const char * const Usage =
   "  --bending-weight weight of the B-spline bending energy added to the metric (default 1)\n"
   "  --folding-weight weight of the folding (negative Jacobian) penalty added to the metric (default 0)\n"
   "  --demo          build a CAD-like part, cut and deform a target from it, match and score it;\n"
-  "                  writes source.vtp, target.vtp, deformed.vtp, transform.tfm, report.json\n"
+  "                  writes source.vtp, target.vtp, deformed.vtp, transform.tfm, report.json and,\n"
+  "                  with a display, snapshot.png\n"
   "  --output-dir    folder of the demo's files (default demo-output)\n";
-
-struct Options
-{
-  std::string  source;
-  std::string  target;
-  std::string  method;
-  std::string  output;
-  unsigned int grid{ 20 };
-  double       voxelSize{ 1.0 };
-  std::string  voxelization{ "sdf" };
-  std::string  transformOut;
-  std::string  report;
-  int          threads{ 0 };
-  int          seed{ 121212 };
-  unsigned int levels{ 2 };
-  unsigned int iterations{ 50 };
-  double       sampling{ 0.25 };
-  double       bendingWeight{ 1.0 };
-  double       foldingWeight{ 0.0 };
-  bool         demo{ false };
-  std::string  outputDir{ "demo-output" };
-  bool         gridGiven{ false };
-  bool         voxelSizeGiven{ false };
-  bool         levelsGiven{ false };
-  bool         iterationsGiven{ false };
-  bool         samplingGiven{ false };
-};
 
 // Known correspondences (demo): the source vertex id and the target vertex id of the same material point.
 struct GroundTruth
 {
   CorrespondenceErrorType::CorrespondenceContainerType correspondences;
-};
-
-struct Error : std::runtime_error
-{
-  using std::runtime_error::runtime_error;
 };
 
 double
@@ -284,9 +257,27 @@ ParseArguments(int argc, char * argv[])
     {
       options.outputDir = value();
     }
-    else if (argument == "--snapshot" || argument == "--templates")
+    else if (argument == "--snapshot")
     {
-      throw Error(argument + " is not available yet");
+      options.snapshot = value();
+      std::string why;
+      if (!ffd::SnapshotPossible(why))
+      {
+        throw Error(why);
+      }
+    }
+    else if (argument == "--templates")
+    {
+      options.templates = value();
+    }
+    else if (argument == "--template-split")
+    {
+      options.templateSplit = value();
+      if (options.templateSplit != "none" && options.templateSplit != "control-point" &&
+          options.templateSplit != "axis")
+      {
+        throw Error("--template-split must be none, control-point or axis, not '" + options.templateSplit + "'");
+      }
     }
     else
     {
@@ -305,13 +296,23 @@ ParseArguments(int argc, char * argv[])
   {
     throw Error("--method is required (go, mrf, par, go+par or mrf+par; see --help)");
   }
-  if (options.method == "mrf" || options.method == "par" || options.method == "go+par" || options.method == "mrf+par")
-  {
-    throw Error("method " + options.method + " is not available yet (use go)");
-  }
-  if (options.method != "go")
+  if (options.method != "go" && options.method != "mrf" && options.method != "par" && options.method != "go+par" &&
+      options.method != "mrf+par")
   {
     throw Error("unknown method '" + options.method + "' (expected go, mrf, par, go+par or mrf+par)");
+  }
+  const bool usesTemplates = options.method.find("par") != std::string::npos;
+  if (usesTemplates && options.templates.empty())
+  {
+    throw Error("method " + options.method + " needs --templates FILE (an ITK transform file of B-spline templates)");
+  }
+  if (!usesTemplates && !options.templates.empty())
+  {
+    throw Error("--templates is used by the methods par, go+par and mrf+par only");
+  }
+  if (!ffd::MethodAvailable(options.method))
+  {
+    throw Error("method " + options.method + " is not available yet (use go)");
   }
   if (options.source.empty() || options.target.empty() || options.output.empty())
   {
@@ -461,25 +462,19 @@ WriteMesh(const MeshType * mesh, const std::string & fileName, const std::string
   }
 }
 
-// The per-stage settings that depend on the voxelization.
-struct Voxelization
-{
-  ModeEnum   mode;
-  MetricEnum metric;
-};
-
-Voxelization
-VoxelizationFor(const std::string & name)
+// The voxelization filter's mode for a --voxelization name.
+ModeEnum
+VoxelizationModeFor(const std::string & name)
 {
   if (name == "occupancy")
   {
-    return { ModeEnum::Occupancy, MetricEnum::MattesMutualInformation };
+    return ModeEnum::Occupancy;
   }
   if (name == "solid")
   {
-    return { ModeEnum::Solid, MetricEnum::MattesMutualInformation };
+    return ModeEnum::Solid;
   }
-  return { ModeEnum::SignedDistance, MetricEnum::MeanSquares };
+  return ModeEnum::SignedDistance;
 }
 
 ImageType::Pointer
@@ -487,8 +482,7 @@ Voxelize(const MeshType * mesh, const Options & options, double bandWidth, const
 {
   auto filter = ImageVoxelizerType::New();
   filter->SetInput(mesh);
-  const Voxelization voxelization = VoxelizationFor(options.voxelization);
-  filter->SetMode(voxelization.mode);
+  filter->SetMode(VoxelizationModeFor(options.voxelization));
   filter->SetBandWidth(bandWidth);
   filter->SetUnsignedDistance(true); // open target patches have no inside
   ImageVoxelizerType::SpacingType spacing;
@@ -651,6 +645,17 @@ JsonErrors(const ErrorStatistics & e)
 // Runs the pipeline on options.source / options.target and writes options.output (and the transform
 // and report files). With a ground truth (demo), the true vertex errors are scored and reported too.
 // Returns the ratio of the true mean error after to before (or of the mean directed distance).
+// The registration stage of the chosen method.
+ffd::RegistrationResult
+Register(const ffd::RegistrationInputs & inputs, const Options & options)
+{
+  if (options.method == "go")
+  {
+    return ffd::RegisterGO(inputs, options);
+  }
+  throw Error("method " + options.method + " is not available yet (use go)");
+}
+
 double
 Match(const Options & options, const GroundTruth * truth, PendingOutputs & pending, const std::string & demoJson)
 {
@@ -658,6 +663,7 @@ Match(const Options & options, const GroundTruth * truth, PendingOutputs & pendi
   const std::string transformTemporary =
     options.transformOut.empty() ? std::string() : pending.Add(options.transformOut);
   const std::string reportTemporary = options.report.empty() ? std::string() : pending.Add(options.report);
+  const std::string snapshotTemporary = options.snapshot.empty() ? std::string() : pending.Add(options.snapshot);
   const auto        totalStart = ClockType::now();
 
   // Read.
@@ -691,60 +697,22 @@ Match(const Options & options, const GroundTruth * truth, PendingOutputs & pendi
 
   // Register: T maps target (fixed) space to source (moving) space.
   start = ClockType::now();
-  auto registration = RegistrationType::New();
-  registration->SetFixedImage(fixed);
-  registration->SetMovingImage(moving);
-  registration->SetFixedImageMask(mask);
-  registration->SetNumberOfControlPointsPerAxis(options.grid);
-  registration->SetMetric(VoxelizationFor(options.voxelization).metric);
-  registration->SetNumberOfLevels(options.levels);
-  registration->SetNumberOfIterations(options.iterations);
-  registration->SetSamplingPercentage(options.sampling);
-  registration->SetRandomSeed(options.seed);
-  registration->SetBendingEnergyWeight(options.bendingWeight);
-  registration->SetFoldingPenaltyWeight(options.foldingWeight);
-  const unsigned int every = 10;
-  auto               progress = itk::CStyleCommand::New();
-  struct ProgressState
-  {
-    const RegistrationType * registration;
-    unsigned int             every;
-    ClockType::time_point    start;
-  } state{ registration.GetPointer(), every, start };
-  progress->SetClientData(&state);
-  progress->SetCallback([](itk::Object *, const itk::EventObject &, void * data) {
-    const auto *      s = static_cast<const ProgressState *>(data);
-    const auto &      values = s->registration->GetMetricValues();
-    const std::size_t n = values.size();
-    if (n == 1 || n % s->every == 0)
-    {
-      std::cerr << "ffd-match: register: iteration " << n << " metric " << std::setprecision(6) << std::defaultfloat
-                << values.back() << " (" << std::fixed << std::setprecision(1) << SecondsSince(s->start) << " s)"
-                << std::endl;
-    }
-  });
-  registration->AddObserver(itk::IterationEvent(), progress);
-  std::cerr << "ffd-match: register: grid " << options.grid << ", " << options.levels << " levels, "
-            << options.iterations << " iterations per level, sampling " << std::defaultfloat << options.sampling
-            << ", metric " << (options.voxelization == "sdf" ? "mean squares" : "Mattes mutual information")
-            << std::endl;
-  try
-  {
-    registration->Update();
-  }
-  catch (const itk::ExceptionObject & error)
-  {
-    throw Error("registration failed: " + OneLine(error.GetDescription()));
-  }
-  const double registerSeconds = SecondsSince(start);
-  std::cerr << "ffd-match: register: " << registration->GetMetricValues().size() << " iterations, " << std::fixed
+  ffd::RegistrationInputs inputs;
+  inputs.fixed = fixed;
+  inputs.moving = moving;
+  inputs.mask = mask;
+  inputs.source = source;
+  inputs.target = target;
+  const ffd::RegistrationResult registration = Register(inputs, options);
+  const double                  registerSeconds = SecondsSince(start);
+  std::cerr << "ffd-match: register: " << registration.metricValues.size() << " iterations, " << std::fixed
             << std::setprecision(2) << registerSeconds << " s" << std::endl;
 
   // Apply: T^-1 moves the source onto the target.
   start = ClockType::now();
   auto apply = ApplyType::New();
   apply->SetInput(source);
-  apply->SetTransformInput(registration->GetTransformOutput());
+  apply->SetTransformInput(registration.transform);
   apply->InverseOn();
   apply->SetInverseTolerance(1e-4);
   apply->Update();
@@ -764,7 +732,7 @@ Match(const Options & options, const GroundTruth * truth, PendingOutputs & pendi
   after->SetTargetMesh(deformed);
   after->Compute();
   auto jacobian = JacobianFilterType::New();
-  jacobian->SetTransformInput(registration->GetTransformOutput());
+  jacobian->SetTransformInput(registration.transform);
   jacobian->SetReferenceImage(fixed);
   jacobian->UseReferenceImageOn();
   jacobian->Update();
@@ -787,7 +755,7 @@ Match(const Options & options, const GroundTruth * truth, PendingOutputs & pendi
   if (!transformTemporary.empty())
   {
     auto writer = itk::TransformFileWriterTemplate<double>::New();
-    writer->SetInput(registration->GetTransform());
+    writer->SetInput(registration.transform->Get());
     writer->SetFileName(transformTemporary);
     try
     {
@@ -798,6 +766,21 @@ Match(const Options & options, const GroundTruth * truth, PendingOutputs & pendi
       throw Error("cannot write the transform '" + options.transformOut + "': " + OneLine(error.GetDescription()));
     }
   }
+  if (!snapshotTemporary.empty())
+  {
+    std::ostringstream title;
+    title << "ffd-match --method " << options.method << ": mean directed distance " << std::setprecision(3)
+          << before->GetMeanDistance() << " -> " << after->GetMeanDistance() << " mm";
+    try
+    {
+      ffd::WriteSnapshot(
+        source, deformed, target, before->GetDistances(), after->GetDistances(), title.str(), snapshotTemporary);
+    }
+    catch (const std::exception & error)
+    {
+      throw Error(std::string("cannot write the snapshot '") + options.snapshot + "': " + OneLine(error.what()));
+    }
+  }
   const double writeSeconds = SecondsSince(start);
   const double totalSeconds = SecondsSince(totalStart);
 
@@ -806,17 +789,17 @@ Match(const Options & options, const GroundTruth * truth, PendingOutputs & pendi
     std::ofstream report(reportTemporary);
     report << "{\n"
            << "  \"program\": \"ffd-match\",\n"
-           << "  \"method\": \"go\",\n"
+           << "  \"method\": " << JsonString(options.method) << ",\n"
            << "  \"source\": " << JsonString(options.source) << ",\n"
            << "  \"target\": " << JsonString(options.target) << ",\n"
            << "  \"output\": " << JsonString(options.output) << ",\n"
            << "  \"transform\": " << (options.transformOut.empty() ? "null" : JsonString(options.transformOut)) << ",\n"
            << "  \"settings\": { \"grid\": " << options.grid << ", \"voxel_size\": " << JsonNumber(options.voxelSize)
            << ", \"voxelization\": " << JsonString(options.voxelization)
-           << ", \"metric\": " << JsonString(options.voxelization == "sdf" ? "MeanSquares" : "MattesMutualInformation")
-           << ", \"band_width\": " << JsonNumber(bandWidth) << ", \"levels\": " << options.levels
-           << ", \"iterations\": " << options.iterations << ", \"sampling\": " << JsonNumber(options.sampling)
-           << ", \"seed\": " << options.seed << ", \"bending_weight\": " << JsonNumber(options.bendingWeight)
+           << ", \"metric\": " << JsonString(registration.metricName) << ", \"band_width\": " << JsonNumber(bandWidth)
+           << ", \"levels\": " << options.levels << ", \"iterations\": " << options.iterations
+           << ", \"sampling\": " << JsonNumber(options.sampling) << ", \"seed\": " << options.seed
+           << ", \"bending_weight\": " << JsonNumber(options.bendingWeight)
            << ", \"folding_weight\": " << JsonNumber(options.foldingWeight)
            << ", \"threads\": " << itk::MultiThreaderBase::GetGlobalDefaultNumberOfThreads() << " },\n"
            << "  \"metric_voxels\": " << maskVoxels << ",\n"
@@ -828,13 +811,13 @@ Match(const Options & options, const GroundTruth * truth, PendingOutputs & pendi
            << ", \"apply\": " << JsonNumber(applySeconds) << ", \"score\": " << JsonNumber(scoreSeconds)
            << ", \"write\": " << JsonNumber(writeSeconds) << ", \"total\": " << JsonNumber(totalSeconds) << " },\n"
            << "  \"metric_values\": [";
-    const auto & values = registration->GetMetricValues();
+    const auto & values = registration.metricValues;
     for (std::size_t i = 0; i < values.size(); ++i)
     {
       report << (i ? ", " : "") << JsonNumber(values[i]);
     }
     report << "],\n"
-           << "  \"stop_condition\": " << JsonString(registration->GetStopConditionDescription()) << ",\n"
+           << "  \"stop_condition\": " << JsonString(registration.stopCondition) << ",\n"
            << "  \"distance_before\": { \"mean_directed\": " << JsonNumber(before->GetMeanDistance())
            << ", \"hausdorff_directed\": " << JsonNumber(before->GetMaximumDistance()) << " },\n"
            << "  \"distance_after\": { \"mean_directed\": " << JsonNumber(after->GetMeanDistance())
@@ -1190,6 +1173,15 @@ RunDemo(Options options)
   options.output = dir + "deformed.vtp";
   options.transformOut = dir + "transform.tfm";
   options.report = dir + "report.json";
+  std::string noSnapshot;
+  if (ffd::SnapshotPossible(noSnapshot))
+  {
+    options.snapshot = dir + "snapshot.png";
+  }
+  else
+  {
+    std::cerr << "ffd-match: demo: no snapshot.png: " << noSnapshot << std::endl;
+  }
   options.method = "go";
   {
     PendingOutputs    inputs;

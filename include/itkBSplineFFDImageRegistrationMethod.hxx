@@ -38,6 +38,53 @@
 
 namespace itk
 {
+namespace detail
+{
+/** \class UnitScalesLBFGSBOptimizerv4
+ * \brief LBFGSBOptimizerv4 that takes the unit scales ImageRegistrationMethodv4 hands it at every level without
+ * a warning.
+ *
+ * LBFGSB works without parameter scales, and ITK 5.2's LBFGSBOptimizerv4 says so on the console whenever scales
+ * are set, which ImageRegistrationMethodv4 does at each resolution level. Users of the module's registration would
+ * see that warning on every run although nothing is wrong; this optimizer sets the unit scales silently and
+ * warns only when scales other than one are asked for.
+ * \ingroup FFDShapeMatching
+ */
+class UnitScalesLBFGSBOptimizerv4 : public LBFGSBOptimizerv4
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(UnitScalesLBFGSBOptimizerv4);
+  using Self = UnitScalesLBFGSBOptimizerv4;
+  using Superclass = LBFGSBOptimizerv4;
+  using Pointer = SmartPointer<Self>;
+  itkNewMacro(Self);
+  itkTypeMacro(UnitScalesLBFGSBOptimizerv4, LBFGSBOptimizerv4);
+
+  void
+  SetScales(const ScalesType & scales) override
+  {
+    for (unsigned int i = 0; i < scales.Size(); ++i)
+    {
+      if (scales[i] != 1.0)
+      {
+        Superclass::SetScales(scales);
+        return;
+      }
+    }
+    this->m_Scales.SetSize(this->m_Metric->GetNumberOfLocalParameters());
+    this->m_Scales.Fill(1.0);
+    this->m_ScalesAreIdentity = true;
+  }
+
+protected:
+  UnitScalesLBFGSBOptimizerv4() = default;
+  ~UnitScalesLBFGSBOptimizerv4() override = default;
+};
+} // namespace detail
+} // namespace itk
+
+namespace itk
+{
 template <typename TFixedImage, typename TMovingImage>
 BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::BSplineFFDImageRegistrationMethod()
 {
@@ -103,8 +150,8 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::VerifyPrecondition
   {
     if (fixed->GetLargestPossibleRegion().GetSize()[d] < 2 * shrink)
     {
-      itkExceptionMacro(<< "The fixed image is too small (" << fixed->GetLargestPossibleRegion().GetSize()
-                        << ") for " << m_NumberOfLevels << " resolution levels");
+      itkExceptionMacro(<< "The fixed image is too small (" << fixed->GetLargestPossibleRegion().GetSize() << ") for "
+                        << m_NumberOfLevels << " resolution levels");
     }
   }
 }
@@ -245,9 +292,9 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunBSplineStage(
   registration->SetMetric(metric);
 
   // Resolution schedule and control-grid refinement.
-  const unsigned int                                  levels = m_NumberOfLevels;
-  typename RegistrationType::ShrinkFactorsArrayType   shrink(levels);
-  typename RegistrationType::SmoothingSigmasArrayType sigmas(levels);
+  const unsigned int                                                  levels = m_NumberOfLevels;
+  typename RegistrationType::ShrinkFactorsArrayType                   shrink(levels);
+  typename RegistrationType::SmoothingSigmasArrayType                 sigmas(levels);
   typename RegistrationType::TransformParametersAdaptorsContainerType adaptors;
   for (unsigned int level = 0; level < levels; ++level)
   {
@@ -255,7 +302,7 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunBSplineStage(
     shrink[level] = factor;
     sigmas[level] = factor > 1 ? 0.5 * factor : 0.0;
     using AdaptorType = BSplineTransformParametersAdaptor<BSplineTransformType>;
-    auto adaptor = AdaptorType::New();
+    auto                                        adaptor = AdaptorType::New();
     typename BSplineTransformType::MeshSizeType levelMeshSize;
     levelMeshSize.Fill(this->GetMeshSizeAtLevel(level));
     adaptor->SetRequiredTransformDomainOrigin(transform->GetTransformDomainOrigin());
@@ -280,10 +327,10 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunBSplineStage(
   const unsigned int finalNumberOfParameters =
     ImageDimension * static_cast<unsigned int>(std::pow(m_NumberOfControlPointsPerAxis, ImageDimension));
   typename ObjectToObjectOptimizerBaseTemplate<double>::Pointer optimizer;
-  typename LBFGSBOptimizerv4::Pointer                            lbfgsb;
+  typename LBFGSBOptimizerv4::Pointer                           lbfgsb;
   if (m_Optimizer == OptimizerEnum::LBFGSB)
   {
-    lbfgsb = LBFGSBOptimizerv4::New();
+    lbfgsb = detail::UnitScalesLBFGSBOptimizerv4::New().GetPointer();
     // Unbounded; sized for the finest grid (the optimizer accepts a longer selection).
     LBFGSBOptimizerv4::BoundSelectionType bounds(finalNumberOfParameters);
     bounds.Fill(LBFGSBOptimizerv4::UNBOUNDED);
@@ -318,14 +365,13 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunBSplineStage(
 
   // Observers: metric trajectory and progress per iteration; LBFGSB restarts from the adapted transform.
   const double totalIterations = static_cast<double>(m_NumberOfIterations) * levels;
-  auto recordIteration = [this, &optimizer, totalIterations]() {
+  auto         recordIteration = [this, &optimizer, totalIterations]() {
     m_MetricValues.push_back(optimizer->GetCurrentMetricValue());
     this->UpdateProgress(static_cast<float>(std::min(0.99, m_MetricValues.size() / totalIterations)));
     this->InvokeEvent(IterationEvent());
   };
-  const unsigned long iterationTag = optimizer->AddObserver(IterationEvent(), [&recordIteration](const EventObject &) {
-    recordIteration();
-  });
+  const unsigned long iterationTag =
+    optimizer->AddObserver(IterationEvent(), [&recordIteration](const EventObject &) { recordIteration(); });
   unsigned long levelTag = 0;
   if (lbfgsb)
   {
