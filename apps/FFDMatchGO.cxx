@@ -54,6 +54,7 @@ RegisterGO(const RegistrationInputs & inputs, const Options & options)
   registration->SetRandomSeed(options.seed);
   registration->SetBendingEnergyWeight(options.bendingWeight);
   registration->SetFoldingPenaltyWeight(options.foldingWeight);
+  registration->SetMaximumRunTime(options.timeLimit);
 
   struct ProgressState
   {
@@ -91,6 +92,7 @@ RegisterGO(const RegistrationInputs & inputs, const Options & options)
   result.metricValues = registration->GetMetricValues();
   result.metricName = GOMetricName(options);
   result.stopCondition = registration->GetStopConditionDescription();
+  result.timeLimitReached = registration->GetTimeLimitReached();
   return result;
 }
 } // namespace ffd

@@ -68,6 +68,8 @@ struct Options
   double       sampling{ 0.25 };
   double       bendingWeight{ 1.0 };
   double       foldingWeight{ 0.0 };
+  double       timeLimit{ 0.0 };   // seconds of registration, 0 = none
+  double       memoryLimit{ 0.0 }; // MB, 0 = from the available memory
   bool         demo{ false };
   std::string  outputDir{ "demo-output" };
   bool         gridGiven{ false };
@@ -95,6 +97,7 @@ struct RegistrationResult
   std::vector<double>                  metricValues;
   std::string                          metricName;
   std::string                          stopCondition;
+  bool                                 timeLimitReached{ false };
 };
 
 /** Whether this build of ffd-match has \c method (go, mrf, par, go+par or mrf+par). */

@@ -62,11 +62,24 @@ ParseNumber(const std::string & option, const std::string & text)
   return value;
 }
 
-/** The first line of \c text, without trailing blanks: ITK's exception descriptions span several lines. */
+/** The first line of \c text, without trailing blanks: ITK's exception descriptions span several lines. The
+ * "ITK ERROR: ClassName(0x...): " prefix of ITK's messages (an object address means nothing to a user) is dropped. */
 inline std::string
 OneLine(const std::string & text)
 {
-  std::string line = text.substr(0, text.find('\n'));
+  std::string       line = text.substr(0, text.find('\n'));
+  const std::string itkPrefix = "ITK ERROR: ";
+  if (line.compare(0, itkPrefix.size(), itkPrefix) == 0)
+  {
+    line.erase(0, itkPrefix.size());
+    const std::size_t open = line.find("(0x");
+    const std::size_t close = line.find("): ");
+    if (open != std::string::npos && close != std::string::npos && open < close &&
+        line.find(' ') > open) // "ClassName(0x...): " and not a sentence that happens to contain "(0x"
+    {
+      line.erase(0, close + 3);
+    }
+  }
   while (!line.empty() && (line.back() == '\r' || line.back() == ' '))
   {
     line.pop_back();

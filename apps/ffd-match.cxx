@@ -45,6 +45,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -88,6 +89,7 @@ const char * const Usage =
   "                 [--transform-out FILE.tfm] [--report FILE.json] [--snapshot FILE.png]\n"
   "                 [--threads N] [--seed S]\n"
   "                 [--levels L] [--iterations N] [--sampling P]\n"
+  "                 [--time-limit SECONDS] [--memory-limit MB]\n"
   "                 [--bending-weight W] [--folding-weight W]\n"
   "       ffd-match --demo [--output-dir DIR] [same tuning options]\n"
   "  --source        mesh moved onto the target (OFF, OBJ, VTK, VTP, STL or PLY)\n"
@@ -110,6 +112,10 @@ const char * const Usage =
   "  --levels        resolution levels (default 2)\n"
   "  --iterations    optimizer iterations per level (default 50)\n"
   "  --sampling      fraction of the band voxels sampled by the metric, (0, 1] (default 0.25)\n"
+  "  --time-limit    stop the registration after this many seconds and go on with the transform\n"
+  "                  reached so far (the report says so); default: no limit\n"
+  "  --memory-limit  refuse (before any work) a voxel grid whose images would need more than this many\n"
+  "                  MB; default: 80 % of the available memory\n"
   "  --bending-weight weight of the B-spline bending energy added to the metric (default 1)\n"
   "  --folding-weight weight of the folding (negative Jacobian) penalty added to the metric (default 0)\n"
   "  --demo          build a CAD-like part, cut and deform a target from it, match and score it;\n"
@@ -249,6 +255,22 @@ ParseArguments(int argc, char * argv[])
       }
       (argument == "--bending-weight" ? options.bendingWeight : options.foldingWeight) = weight;
     }
+    else if (argument == "--time-limit")
+    {
+      options.timeLimit = ParseNumber(argument, value());
+      if (!(options.timeLimit > 0.0))
+      {
+        throw Error("--time-limit must be > 0 seconds");
+      }
+    }
+    else if (argument == "--memory-limit")
+    {
+      options.memoryLimit = ParseNumber(argument, value());
+      if (!(options.memoryLimit >= 1.0))
+      {
+        throw Error("--memory-limit must be at least 1 MB");
+      }
+    }
     else if (argument == "--demo")
     {
       options.demo = true;
@@ -317,6 +339,16 @@ ParseArguments(int argc, char * argv[])
   if (options.source.empty() || options.target.empty() || options.output.empty())
   {
     throw Error("--source, --target and --output are required (see --help)");
+  }
+  std::string extension = std::filesystem::path(options.output).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) {
+    return static_cast<char>(std::tolower(c));
+  });
+  if (extension != ".off" && extension != ".obj" && extension != ".vtk" && extension != ".vtp" && extension != ".stl" &&
+      extension != ".ply")
+  {
+    throw Error("--output must name a mesh file ending in .off, .obj, .vtk, .vtp, .stl or .ply, not '" +
+                options.output + "'");
   }
   return options;
 }
@@ -397,7 +429,8 @@ private:
 MeshType::Pointer
 ReadMesh(const std::string & fileName, const std::string & role)
 {
-  if (!std::ifstream(fileName).good())
+  std::error_code fileError;
+  if (!std::ifstream(fileName).good() || !std::filesystem::is_regular_file(fileName, fileError))
   {
     throw Error("cannot read " + role + " mesh '" + fileName + "': no such readable file");
   }
@@ -488,7 +521,7 @@ Voxelize(const MeshType * mesh, const Options & options, double bandWidth, const
   ImageVoxelizerType::SpacingType spacing;
   spacing.Fill(options.voxelSize);
   filter->SetGeometryFromMeshBounds(spacing, bandWidth + 2.0 * options.voxelSize);
-  filter->SetMaximumNumberOfVoxels(400u * 400u * 400u);
+  filter->SetMaximumNumberOfVoxels(itk::NumericTraits<itk::SizeValueType>::max()); // CheckMemory() decided
   try
   {
     filter->Update();
@@ -500,9 +533,109 @@ Voxelize(const MeshType * mesh, const Options & options, double bandWidth, const
   ImageType::Pointer image = filter->GetOutput();
   image->DisconnectPipeline();
   const auto size = image->GetLargestPossibleRegion().GetSize();
-  std::cerr << "ffd-match: voxelize: " << role << " " << filter->GetNumberOfTriangles() << " triangles -> " << size[0]
-            << "x" << size[1] << "x" << size[2] << " voxels (" << options.voxelization << ")" << std::endl;
+  std::cerr << "ffd-match: voxelize: " << role << " " << filter->GetNumberOfTriangles() << " triangles";
+  if (filter->GetNumberOfDegenerateTriangles() > 0)
+  {
+    std::cerr << " (" << filter->GetNumberOfDegenerateTriangles() << " of zero area skipped)";
+  }
+  std::cerr << " -> " << size[0] << "x" << size[1] << "x" << size[2] << " voxels (" << options.voxelization << ")"
+            << std::endl;
   return image;
+}
+
+// Bounding box of a mesh's points.
+void
+BoundsOf(const MeshType * mesh, std::array<double, 3> & lower, std::array<double, 3> & upper)
+{
+  lower.fill(std::numeric_limits<double>::infinity());
+  upper.fill(-std::numeric_limits<double>::infinity());
+  for (auto it = mesh->GetPoints()->Begin(); it != mesh->GetPoints()->End(); ++it)
+  {
+    for (unsigned int d = 0; d < 3; ++d)
+    {
+      lower[d] = std::min(lower[d], static_cast<double>(it.Value()[d]));
+      upper[d] = std::max(upper[d], static_cast<double>(it.Value()[d]));
+    }
+  }
+}
+
+// The registration estimates a deformation, not a placement: meshes whose boxes (grown by the band) do not meet
+// cannot be matched, and the metric would find no voxel to compare.
+void
+CheckOverlap(const MeshType * source, const MeshType * target, double bandWidth)
+{
+  std::array<double, 3> sourceLower;
+  std::array<double, 3> sourceUpper;
+  std::array<double, 3> targetLower;
+  std::array<double, 3> targetUpper;
+  BoundsOf(source, sourceLower, sourceUpper);
+  BoundsOf(target, targetLower, targetUpper);
+  for (unsigned int d = 0; d < 3; ++d)
+  {
+    if (targetLower[d] > sourceUpper[d] + bandWidth || targetUpper[d] < sourceLower[d] - bandWidth)
+    {
+      throw Error("the target does not overlap the source (their bounding boxes are apart along axis " +
+                  std::to_string(d) + "): ffd-match estimates a deformation, not a placement; align them first");
+    }
+  }
+}
+
+// Available memory in MB (MemAvailable of /proc/meminfo), or 0 when unknown.
+double
+AvailableMemoryMB()
+{
+  std::ifstream meminfo("/proc/meminfo");
+  std::string   key;
+  double        kilobytes = 0.0;
+  std::string   unit;
+  while (meminfo >> key >> kilobytes >> unit)
+  {
+    if (key == "MemAvailable:")
+    {
+      return kilobytes / 1024.0;
+    }
+  }
+  return 0.0;
+}
+
+// Refuses, before any allocation, voxel grids whose images would not fit the memory limit. Measured peak use of
+// ffd-match is about 32 bytes per voxel of the two grids together (the images, the mask, the level copies and the
+// metric's gradients); 40 is budgeted.
+void
+CheckMemory(const MeshType * source, const MeshType * target, const Options & options, double bandWidth)
+{
+  constexpr double bytesPerVoxel = 40.0;
+  double           voxels = 0.0;
+  for (const MeshType * mesh : { source, target })
+  {
+    ImageVoxelizerType::SpacingType spacing;
+    spacing.Fill(options.voxelSize);
+    ImageVoxelizerType::PointType origin;
+    ImageVoxelizerType::SizeType  size;
+    try
+    {
+      ImageVoxelizerType::ComputeGeometryFromMeshBounds(
+        mesh, spacing, bandWidth + 2.0 * options.voxelSize, origin, size);
+    }
+    catch (const itk::ExceptionObject & error)
+    {
+      throw Error("cannot lay a voxel grid over the " + std::string(mesh == source ? "source" : "target") +
+                  " mesh: " + OneLine(error.GetDescription()));
+    }
+    voxels += static_cast<double>(size[0]) * static_cast<double>(size[1]) * static_cast<double>(size[2]);
+  }
+  const double available = AvailableMemoryMB();
+  const double limit = options.memoryLimit > 0.0 ? options.memoryLimit : (available > 0.0 ? 0.8 * available : 8192.0);
+  const double needed = voxels * bytesPerVoxel / (1024.0 * 1024.0);
+  if (needed > limit)
+  {
+    std::ostringstream message;
+    message << std::fixed << std::setprecision(0) << "the voxel images would need about " << needed << " MB (" << voxels
+            << " voxels at --voxel-size " << std::defaultfloat << options.voxelSize
+            << "), more than the memory limit of " << std::fixed << std::setprecision(0) << limit
+            << " MB: use a larger --voxel-size or raise --memory-limit";
+    throw Error(message.str());
+  }
 }
 
 // The band around the target surface, without the part within the band of the target's open boundary
@@ -677,7 +810,9 @@ Match(const Options & options, const GroundTruth * truth, PendingOutputs & pendi
 
   // Voxelize: the same voxel size and band for both; the metric samples the band around the target.
   start = ClockType::now();
-  const double                 bandWidth = 2.0 * options.voxelSize;
+  const double bandWidth = 2.0 * options.voxelSize;
+  CheckOverlap(source, target, bandWidth);
+  CheckMemory(source, target, options, bandWidth);
   const ImageType::Pointer     fixed = Voxelize(target, options, bandWidth, "target");
   const ImageType::Pointer     moving = Voxelize(source, options, bandWidth, "source");
   std::size_t                  boundaryEdges = 0;
@@ -706,7 +841,9 @@ Match(const Options & options, const GroundTruth * truth, PendingOutputs & pendi
   const ffd::RegistrationResult registration = Register(inputs, options);
   const double                  registerSeconds = SecondsSince(start);
   std::cerr << "ffd-match: register: " << registration.metricValues.size() << " iterations, " << std::fixed
-            << std::setprecision(2) << registerSeconds << " s" << std::endl;
+            << std::setprecision(2) << registerSeconds << " s"
+            << (registration.timeLimitReached ? " (stopped at --time-limit; the transform reached so far is used)" : "")
+            << std::endl;
 
   // Apply: T^-1 moves the source onto the target.
   start = ClockType::now();
@@ -801,6 +938,7 @@ Match(const Options & options, const GroundTruth * truth, PendingOutputs & pendi
            << ", \"sampling\": " << JsonNumber(options.sampling) << ", \"seed\": " << options.seed
            << ", \"bending_weight\": " << JsonNumber(options.bendingWeight)
            << ", \"folding_weight\": " << JsonNumber(options.foldingWeight)
+           << ", \"time_limit\": " << JsonNumber(options.timeLimit > 0.0 ? options.timeLimit : NAN)
            << ", \"threads\": " << itk::MultiThreaderBase::GetGlobalDefaultNumberOfThreads() << " },\n"
            << "  \"metric_voxels\": " << maskVoxels << ",\n"
            << "  \"target_open_boundary_edges\": " << boundaryEdges << ",\n"
@@ -818,6 +956,7 @@ Match(const Options & options, const GroundTruth * truth, PendingOutputs & pendi
     }
     report << "],\n"
            << "  \"stop_condition\": " << JsonString(registration.stopCondition) << ",\n"
+           << "  \"time_limit_reached\": " << (registration.timeLimitReached ? "true" : "false") << ",\n"
            << "  \"distance_before\": { \"mean_directed\": " << JsonNumber(before->GetMeanDistance())
            << ", \"hausdorff_directed\": " << JsonNumber(before->GetMaximumDistance()) << " },\n"
            << "  \"distance_after\": { \"mean_directed\": " << JsonNumber(after->GetMeanDistance())

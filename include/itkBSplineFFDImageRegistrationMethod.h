@@ -24,6 +24,7 @@
 #include "itkImage.h"
 #include "itkProcessObject.h"
 #include "itkTransform.h"
+#include <chrono>
 #include <string>
 #include <vector>
 
@@ -53,7 +54,9 @@ namespace itk
  * then the affine transform.
  *
  * Progress is reported per optimizer iteration; an IterationEvent is invoked with each, and the metric value
- * trajectory is kept (GetMetricValues()).
+ * trajectory is kept (GetMetricValues()). A run-time limit (MaximumRunTime) stops the optimization cleanly with
+ * the parameters reached so far; a metric that stops being finite (a diverging optimization) ends Update() with
+ * an ExceptionObject instead of a meaningless transform.
  *
  * \sa RegularizedImageToImageMetricv4, ImageRegistrationMethodv4, BSplineTransform
  * \ingroup FFDShapeMatching
@@ -154,6 +157,15 @@ public:
   itkGetConstMacro(UseAffineStage, bool);
   itkBooleanMacro(UseAffineStage);
 
+  /** Wall-clock limit of the B-spline optimization in seconds; 0 (the default) means none. When it is reached the
+   * optimizer stops at the current iteration, keeping the best parameters so far; any remaining level makes one
+   * iteration (so the output has the final control grid) and GetTimeLimitReached() is true. */
+  itkSetClampMacro(MaximumRunTime, double, 0.0, NumericTraits<double>::max());
+  itkGetConstMacro(MaximumRunTime, double);
+
+  /** Whether the last Update() stopped at MaximumRunTime. */
+  itkGetConstMacro(TimeLimitReached, bool);
+
   /** Metric value after each optimizer iteration, over all levels, of the last Update(). */
   const std::vector<double> &
   GetMetricValues() const
@@ -179,8 +191,7 @@ protected:
   GenerateData() override;
 
   using Superclass::MakeOutput;
-  DataObjectPointer
-  MakeOutput(DataObjectPointerArraySizeType) override;
+  DataObjectPointer MakeOutput(DataObjectPointerArraySizeType) override;
 
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
@@ -206,6 +217,10 @@ private:
   double          m_BendingEnergyWeight{ 0.0 };
   double          m_FoldingPenaltyWeight{ 0.0 };
   bool            m_UseAffineStage{ false };
+  double          m_MaximumRunTime{ 0.0 };
+  bool            m_TimeLimitReached{ false };
+
+  std::chrono::steady_clock::time_point m_StartTime{};
 
   std::vector<double> m_MetricValues{};
   std::string         m_StopConditionDescription{};

@@ -162,6 +162,8 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::GenerateData()
 {
   m_MetricValues.clear();
   m_StopConditionDescription.clear();
+  m_TimeLimitReached = false;
+  m_StartTime = std::chrono::steady_clock::now();
   this->UpdateProgress(0.0f);
 
   typename TransformType::Pointer affine;
@@ -170,6 +172,14 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::GenerateData()
     affine = this->RunAffineStage();
   }
   typename TransformType::Pointer result = this->RunBSplineStage(affine).GetPointer();
+  for (std::size_t i = 0; i < m_MetricValues.size(); ++i)
+  {
+    if (!std::isfinite(m_MetricValues[i]))
+    {
+      itkExceptionMacro("The metric became " << m_MetricValues[i] << " at iteration " << i + 1
+                                             << ": the optimization diverged (check the images and the weights).");
+    }
+  }
   if (affine)
   {
     // ITK's composite applies the most recently added transform first: B-spline, then affine.
@@ -324,6 +334,7 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunBSplineStage(
   }
 
   // The optimizer.
+  using RSGDType = RegularStepGradientDescentOptimizerv4<double>;
   const unsigned int finalNumberOfParameters =
     ImageDimension * static_cast<unsigned int>(std::pow(m_NumberOfControlPointsPerAxis, ImageDimension));
   typename ObjectToObjectOptimizerBaseTemplate<double>::Pointer optimizer;
@@ -348,7 +359,6 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunBSplineStage(
   }
   else
   {
-    using RSGDType = RegularStepGradientDescentOptimizerv4<double>;
     auto rsgd = RSGDType::New();
     rsgd->SetLearningRate(1.0);
     rsgd->SetMinimumStepLength(m_ConvergenceTolerance);
@@ -364,9 +374,32 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunBSplineStage(
   registration->SetOptimizer(optimizer);
 
   // Observers: metric trajectory and progress per iteration; LBFGSB restarts from the adapted transform.
+  // The optimizers stop early, keeping the current (best so far) parameters, when the metric stops being finite
+  // or the run-time limit is reached: LBFGSB ends at the iteration whose count reaches its (lowered) maximum,
+  // the regular-step optimizer on request. Later levels then make one iteration each, so the final grid stays.
+  const auto stopNow = [&optimizer, &lbfgsb]() {
+    if (lbfgsb)
+    {
+      lbfgsb->SetNumberOfIterations(1);
+    }
+    else
+    {
+      static_cast<RSGDType *>(optimizer.GetPointer())->StopOptimization();
+    }
+  };
   const double totalIterations = static_cast<double>(m_NumberOfIterations) * levels;
-  auto         recordIteration = [this, &optimizer, totalIterations]() {
-    m_MetricValues.push_back(optimizer->GetCurrentMetricValue());
+  auto         recordIteration = [this, &optimizer, &stopNow, totalIterations]() {
+    const double value = optimizer->GetCurrentMetricValue();
+    m_MetricValues.push_back(value);
+    if (m_MaximumRunTime > 0.0 &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - m_StartTime).count() > m_MaximumRunTime)
+    {
+      m_TimeLimitReached = true;
+    }
+    if (m_TimeLimitReached || !std::isfinite(value))
+    {
+      stopNow();
+    }
     this->UpdateProgress(static_cast<float>(std::min(0.99, m_MetricValues.size() / totalIterations)));
     this->InvokeEvent(IterationEvent());
   };
@@ -375,9 +408,13 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunBSplineStage(
   unsigned long levelTag = 0;
   if (lbfgsb)
   {
-    levelTag = registration->AddObserver(MultiResolutionIterationEvent(), [&lbfgsb](const EventObject &) {
+    levelTag = registration->AddObserver(MultiResolutionIterationEvent(), [this, &lbfgsb](const EventObject &) {
       // An empty initial position makes LBFGSB start from the (adapted) transform's parameters.
       lbfgsb->SetInitialPosition(typename LBFGSBOptimizerv4::ParametersType(0));
+      if (m_TimeLimitReached)
+      {
+        lbfgsb->SetNumberOfIterations(1);
+      }
     });
   }
   registration->Update();
@@ -388,7 +425,12 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunBSplineStage(
   }
 
   std::ostringstream stop;
-  stop << "b-spline: " << optimizer->GetStopConditionDescription() << '\n';
+  stop << "b-spline: " << optimizer->GetStopConditionDescription();
+  if (m_TimeLimitReached)
+  {
+    stop << " (stopped early: the run-time limit of " << m_MaximumRunTime << " s was reached)";
+  }
+  stop << '\n';
   m_StopConditionDescription += stop.str();
   return transform;
 }
@@ -410,6 +452,8 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::PrintSelf(std::ost
   os << indent << "BendingEnergyWeight: " << m_BendingEnergyWeight << std::endl;
   os << indent << "FoldingPenaltyWeight: " << m_FoldingPenaltyWeight << std::endl;
   os << indent << "UseAffineStage: " << (m_UseAffineStage ? "On" : "Off") << std::endl;
+  os << indent << "MaximumRunTime: " << m_MaximumRunTime << std::endl;
+  os << indent << "TimeLimitReached: " << (m_TimeLimitReached ? "true" : "false") << std::endl;
   os << indent << "MetricValues: " << m_MetricValues.size() << " iterations" << std::endl;
   os << indent << "StopConditionDescription: " << m_StopConditionDescription << std::endl;
 }

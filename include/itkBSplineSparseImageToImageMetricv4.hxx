@@ -782,8 +782,11 @@ BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::PrepareEvaluation(
   }
 
   const SizeValueType numberOfSamples = m_Samples.size();
-  const SizeValueType numberOfWorkUnits =
-    std::max<SizeValueType>(1, std::min<SizeValueType>(this->GetMaximumNumberOfWorkUnits(), numberOfSamples));
+  // The samples are cut into a fixed number of parts, whatever the number of threads, and the parts' sums are
+  // added in order: the value and derivative are bit-identical for every thread count.
+  constexpr SizeValueType numberOfParts = 16;
+  const SizeValueType     numberOfWorkUnits =
+    std::max<SizeValueType>(1, std::min<SizeValueType>(numberOfParts, numberOfSamples));
   const bool          mattes = m_Measure == MeasureEnum::MattesMutualInformation;
   const SizeValueType bins = m_NumberOfHistogramBins;
   m_WorkUnitResults.resize(numberOfWorkUnits);
@@ -828,8 +831,10 @@ BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::RunWorkUnits(
 {
   const SizeValueType numberOfWorkUnits = m_WorkUnitResults.size();
   const SizeValueType numberOfSamples = m_Samples.size();
-  m_Threader->SetMaximumNumberOfThreads(static_cast<ThreadIdType>(numberOfWorkUnits));
-  m_Threader->SetNumberOfWorkUnits(static_cast<ThreadIdType>(numberOfWorkUnits));
+  const auto          threads = static_cast<ThreadIdType>(
+    std::max<SizeValueType>(1, std::min<SizeValueType>(this->GetMaximumNumberOfWorkUnits(), numberOfWorkUnits)));
+  m_Threader->SetMaximumNumberOfThreads(threads);
+  m_Threader->SetNumberOfWorkUnits(threads);
   m_Threader->ParallelizeArray(
     0,
     numberOfWorkUnits,

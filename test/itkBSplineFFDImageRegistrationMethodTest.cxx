@@ -22,6 +22,7 @@
 #include "itkBSplineTransformInitializer.h"
 #include "itkTestingMacros.h"
 #include <chrono>
+#include <limits>
 #include <cmath>
 
 namespace
@@ -35,7 +36,7 @@ using PointType = itk::Point<double, Dimension>;
 ImageType::Pointer
 MakeBlob(const itk::Vector<double, Dimension> & shift)
 {
-  auto             image = ImageType::New();
+  auto                image = ImageType::New();
   ImageType::SizeType size;
   size.Fill(32);
   image->SetRegions(size);
@@ -94,8 +95,8 @@ CheckRegularizedMetricDerivative(const ImageType * fixed, const ImageType * movi
   using PlainMetricType = itk::MeanSquaresImageToImageMetricv4<ImageType, ImageType>;
   using MetricType = itk::RegularizedImageToImageMetricv4<PlainMetricType>;
   using BSplineType = RegistrationType::BSplineTransformType;
-  auto transform = BSplineType::New();
-  auto initializer = itk::BSplineTransformInitializer<BSplineType, ImageType>::New();
+  auto                      transform = BSplineType::New();
+  auto                      initializer = itk::BSplineTransformInitializer<BSplineType, ImageType>::New();
   BSplineType::MeshSizeType mesh;
   mesh.Fill(3);
   initializer->SetTransform(transform);
@@ -115,7 +116,8 @@ CheckRegularizedMetricDerivative(const ImageType * fixed, const ImageType * movi
   regularized->GetPenalty()->SetBendingEnergyWeight(0.7);
   regularized->GetPenalty()->SetFoldingPenaltyWeight(5.0);
   regularized->GetPenalty()->SetFoldingThreshold(0.9);
-  for (PlainMetricType * metric : { static_cast<PlainMetricType *>(plain), static_cast<PlainMetricType *>(regularized) })
+  for (PlainMetricType * metric :
+       { static_cast<PlainMetricType *>(plain), static_cast<PlainMetricType *>(regularized) })
   {
     metric->SetFixedImage(fixed);
     metric->SetMovingImage(moving);
@@ -127,7 +129,8 @@ CheckRegularizedMetricDerivative(const ImageType * fixed, const ImageType * movi
   plain->GetValueAndDerivative(plainValue, plainDerivative);
   regularized->GetValueAndDerivative(regularizedValue, regularizedDerivative);
   ITK_TEST_EXPECT_TRUE(regularized->GetLastPenaltyValue() > 0.0);
-  ITK_TEST_EXPECT_TRUE(itk::Math::FloatAlmostEqual(regularizedValue - plainValue, regularized->GetLastPenaltyValue(), 4, 1e-9));
+  ITK_TEST_EXPECT_TRUE(
+    itk::Math::FloatAlmostEqual(regularizedValue - plainValue, regularized->GetLastPenaltyValue(), 4, 1e-9));
   ITK_TEST_EXPECT_TRUE(itk::Math::FloatAlmostEqual(regularized->GetValue(), regularizedValue, 4, 1e-9));
 
   const double step = 1e-4;
@@ -172,9 +175,9 @@ itkBSplineFFDImageRegistrationMethodTest(int argc, char * argv[])
   const auto fixed = MakeBlob(noShift);
   const auto moving = MakeBlob(shift);
 
-  auto      clock = std::chrono::steady_clock::now();
+  auto       clock = std::chrono::steady_clock::now();
   const auto elapsed = [&clock]() {
-    const auto now = std::chrono::steady_clock::now();
+    const auto   now = std::chrono::steady_clock::now();
     const double seconds = std::chrono::duration<double>(now - clock).count();
     clock = now;
     return seconds;
@@ -198,8 +201,8 @@ itkBSplineFFDImageRegistrationMethodTest(int argc, char * argv[])
 
   // Recovery of a smooth displacement, on mean squares and on Mattes MI.
   const double errorBefore = shift.GetNorm();
-  for (const auto metric :
-       { itk::FFDShapeMatchingEnums::ImageMetric::MeanSquares, itk::FFDShapeMatchingEnums::ImageMetric::MattesMutualInformation })
+  for (const auto metric : { itk::FFDShapeMatchingEnums::ImageMetric::MeanSquares,
+                             itk::FFDShapeMatchingEnums::ImageMetric::MattesMutualInformation })
   {
     registration->SetNumberOfLevels(2);
     registration->SetNumberOfControlPointsPerAxis(6);
@@ -231,6 +234,37 @@ itkBSplineFFDImageRegistrationMethodTest(int argc, char * argv[])
     largest = std::max(largest, std::abs(stiffParameters[i]));
   }
   ITK_TEST_EXPECT_TRUE(largest < 0.1 * errorBefore);
+
+  // A run-time limit that is over at once: a few iterations per level (LBFGSB reports its start and its first
+  // step before it can stop), the final grid, the limit reported.
+  registration->SetBendingEnergyWeight(0.0);
+  registration->SetNumberOfIterations(40);
+  registration->SetMaximumRunTime(1e-9);
+  ITK_TEST_SET_GET_VALUE(1e-9, registration->GetMaximumRunTime());
+  ITK_TRY_EXPECT_NO_EXCEPTION(registration->Update());
+  std::cout << "With a run-time limit: " << registration->GetMetricValues().size() << " iterations\n"
+            << registration->GetStopConditionDescription();
+  ITK_TEST_EXPECT_TRUE(registration->GetTimeLimitReached());
+  ITK_TEST_EXPECT_TRUE(registration->GetMetricValues().size() <= 3u * 2u);
+  ITK_TEST_EXPECT_EQUAL(registration->GetTransform()->GetNumberOfParameters(), 3u * 6u * 6u * 6u);
+  ITK_TEST_EXPECT_TRUE(registration->GetStopConditionDescription().find("run-time limit") != std::string::npos);
+  registration->SetMaximumRunTime(0.0);
+  registration->SetNumberOfIterations(5);
+  ITK_TRY_EXPECT_NO_EXCEPTION(registration->Update());
+  ITK_TEST_EXPECT_TRUE(!registration->GetTimeLimitReached());
+
+  // Broken input (a fixed image with NaN voxels) ends in an exception, not in a transform.
+  auto broken = ImageType::New();
+  broken->CopyInformation(fixed);
+  broken->SetRegions(fixed->GetLargestPossibleRegion());
+  broken->Allocate();
+  for (itk::SizeValueType i = 0; i < fixed->GetLargestPossibleRegion().GetNumberOfPixels(); ++i)
+  {
+    broken->GetBufferPointer()[i] = i % 7 == 0 ? std::numeric_limits<float>::quiet_NaN() : fixed->GetBufferPointer()[i];
+  }
+  registration->SetFixedImage(broken);
+  ITK_TRY_EXPECT_EXCEPTION(registration->Update());
+  registration->SetFixedImage(fixed);
 
   // The transform output is a pipeline output: it carries the transform.
   ITK_TEST_EXPECT_TRUE(registration->GetTransformOutput()->Get() == registration->GetTransform());

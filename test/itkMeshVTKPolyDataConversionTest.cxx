@@ -316,6 +316,9 @@ itkMeshVTKPolyDataConversionTest(int argc, char * argv[])
     mesh->SetCell(0, cell);
     ITK_TRY_EXPECT_EXCEPTION(itk::MeshToVTKPolyData(mesh, polyData));
 
+    // Replacing a cell does not free the old one (itk::Mesh owns cells through raw pointers): free it first.
+    delete mesh->GetCells()->ElementAt(0);
+    mesh->GetCells()->DeleteIndex(0);
     cell.TakeOwnership(new itk::TriangleCell<MeshType::CellType>);
     cell->SetPointId(0, 0);
     cell->SetPointId(1, 1);

@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# Reliability build of FFDShapeMatching (issue "Reliability"): the module, its tests and programs built with
+# Clang, AddressSanitizer and UndefinedBehaviorSanitizer; the WHOLE test suite run under them (any report fails
+# the test that caused it); then each libFuzzer target fuzzed for FUZZ_SECONDS (default 60) seconds from its
+# seed corpus in test/Fuzz/Corpus. A crash, hang (> 10 s per input), leak or sanitizer report fails the run and
+# leaves the input in $build_dir/fuzz-artifacts: add it to the corpus as a regression test once fixed.
+#
+#   Utilities/SanitizerAndFuzzBuild.sh            build dir ./build-sanitize
+#   FUZZ_SECONDS=600 Utilities/SanitizerAndFuzzBuild.sh
+#
+# Debian's ITK was built with GCC; CMake/FFDShapeMatchingClangWithDebianITK.cmake lets Clang use it.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash Utilities/InstallDependencies.sh
+build_dir=${FFD_SANITIZE_BUILD_DIR:-build-sanitize}
+fuzz_seconds=${FUZZ_SECONDS:-60}
+sanitizers="-fsanitize=address,undefined"
+compile_flags="$sanitizers -fno-omit-frame-pointer -g"
+start=$(date +%s)
+
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+  "-DCMAKE_C_FLAGS=$compile_flags" "-DCMAKE_CXX_FLAGS=$compile_flags" \
+  "-DCMAKE_EXE_LINKER_FLAGS=$sanitizers" "-DCMAKE_SHARED_LINKER_FLAGS=$sanitizers" \
+  -DFFDShapeMatching_BUILD_FUZZERS=ON
+cmake --build "$build_dir" -j"$(nproc)"
+echo "== sanitizer build: $(( $(date +%s) - start )) s =="
+
+supp="$PWD/Utilities/Sanitizers"
+export ASAN_OPTIONS="detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1"
+export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0"
+export UBSAN_OPTIONS="suppressions=$supp/ubsan.supp:print_stacktrace=1:halt_on_error=1"
+# Every test's whole output is kept: a sanitizer report fails the run even in a test that passed on its own
+# terms (tests that check a program's printed result or its failing exit code do not see the report).
+status=0
+(cd "$build_dir" && ctest -j"$(nproc)" --timeout 900 -V > ctest-sanitize.log 2>&1) || status=$?
+grep -E "^[0-9]+/[0-9]+ Test|tests passed|tests failed" "$build_dir/ctest-sanitize.log" | tail -n 200
+if grep -E "ERROR: (Address|Leak)Sanitizer|runtime error:" "$build_dir/ctest-sanitize.log"; then
+  echo "error: sanitizer reports in the test output (see $build_dir/ctest-sanitize.log)" >&2
+  exit 1
+fi
+if [ "$status" -ne 0 ]; then
+  echo "error: tests failed under the sanitizers (see $build_dir/ctest-sanitize.log)" >&2
+  exit "$status"
+fi
+echo "== sanitizer test run: $(( $(date +%s) - start )) s =="
+
+mkdir -p "$build_dir/fuzz-artifacts"
+for fuzzer in ffdMeshFuzzer ffdTransformFuzzer; do
+  case $fuzzer in
+    ffdMeshFuzzer) seeds=test/Fuzz/Corpus/Mesh ;;
+    ffdTransformFuzzer) seeds=test/Fuzz/Corpus/Transform ;;
+  esac
+  work=$(mktemp -d)
+  echo "== fuzzing $fuzzer for $fuzz_seconds s =="
+  "$build_dir/test/Fuzz/$fuzzer" -max_total_time="$fuzz_seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+    -artifact_prefix="$build_dir/fuzz-artifacts/$fuzzer-" "$work" "$seeds"
+  rm -rf "$work"
+done
+echo "== sanitizer and fuzz run passed in $(( $(date +%s) - start )) s =="
