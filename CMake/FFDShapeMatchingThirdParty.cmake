@@ -19,6 +19,8 @@ set(FFDShapeMatching_VTK_COMPONENTS
 # with every component the project uses, so that their own dependencies (X11, GLEW, ...) resolve in one
 # directory scope; the module library links only the components above.
 set(FFDShapeMatching_VTK_PROGRAM_COMPONENTS
+  ImagingHybrid
+  ImagingStencil
   IOImage
   RenderingAnnotation
   RenderingCore
@@ -33,6 +35,15 @@ endforeach()
 # ITK 5.2 bundles an older Eigen under the same names; ITK_USE_SYSTEM_EIGEN (set on
 # every target through the module library) makes ITK's headers use this one.
 find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+
+# Boykov-Kolmogorov max-flow (Debian's libmaxflow-dev) for the MRF solver's alpha-expansion moves.
+# Used by src/itkMRFLabelingSolver.cxx only and linked privately: no public header includes it.
+find_path(FFDShapeMatching_MAXFLOW_INCLUDE_DIR maxflow/graph.h PATH_SUFFIXES maxflow-3.0)
+find_library(FFDShapeMatching_MAXFLOW_LIBRARY NAMES maxflow)
+if(NOT FFDShapeMatching_MAXFLOW_INCLUDE_DIR OR NOT FFDShapeMatching_MAXFLOW_LIBRARY)
+  message(FATAL_ERROR "The max-flow library was not found (Debian: apt-get install libmaxflow-dev); "
+    "set FFDShapeMatching_MAXFLOW_INCLUDE_DIR and FFDShapeMatching_MAXFLOW_LIBRARY.")
+endif()
 
 set(_FFDShapeMatching_export_code "
 find_package(VTK 9.1 REQUIRED COMPONENTS ${FFDShapeMatching_VTK_COMPONENTS})

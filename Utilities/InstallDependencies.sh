@@ -11,6 +11,7 @@ packages=(
   googletest libgtest-dev                # GoogleTest 1.12
   libmaxflow-dev                         # Boykov-Kolmogorov max-flow for the MRF optimizer
   xvfb xauth                             # off-screen rendering of snapshots
+  clang libclang-rt-14-dev               # sanitizer and libFuzzer build (Utilities/SanitizerAndFuzzBuild.sh)
 )
 
 missing=()

@@ -68,6 +68,7 @@ struct Options
   double       sampling{ 0.25 };
   double       bendingWeight{ 1.0 };
   double       foldingWeight{ 0.0 };
+  double       mrfWeight{ 5.0 };
   double       timeLimit{ 0.0 };   // seconds of registration, 0 = none
   double       memoryLimit{ 0.0 }; // MB, 0 = from the available memory
   bool         demo{ false };
@@ -104,12 +105,20 @@ struct RegistrationResult
 inline bool
 MethodAvailable(const std::string & method)
 {
-  return method == "go";
+  return method == "go" || method == "mrf" || method == "par" || method == "go+par" || method == "mrf+par";
 }
 
 /** Gradient-based global optimization of a B-spline FFD on the voxel images (method go). */
 RegistrationResult
 RegisterGO(const RegistrationInputs & inputs, const Options & options);
+
+/** Discrete MRF optimization of a B-spline FFD on the voxel images (method mrf). */
+RegistrationResult
+RegisterMRF(const RegistrationInputs & inputs, const Options & options);
+
+/** Parametric-template matching of the meshes (method par; go+par and mrf+par with the voxel result as \c base). */
+RegistrationResult
+RegisterPar(const RegistrationInputs & inputs, const Options & options, const DecoratedTransformType * base);
 
 /** The printed name of the image metric that method go uses with the chosen voxelization. */
 std::string

@@ -90,12 +90,18 @@ const char * const Usage =
   "                 [--threads N] [--seed S]\n"
   "                 [--levels L] [--iterations N] [--sampling P]\n"
   "                 [--time-limit SECONDS] [--memory-limit MB]\n"
-  "                 [--bending-weight W] [--folding-weight W]\n"
+  "                 [--bending-weight W] [--folding-weight W] [--mrf-weight W]\n"
   "       ffd-match --demo [--output-dir DIR] [same tuning options]\n"
   "  --source        mesh moved onto the target (OFF, OBJ, VTK, VTP, STL or PLY)\n"
   "  --target        mesh (or open surface patch) matched to\n"
-  "  --method        go: B-spline FFD by gradient-based image registration (mrf, par, go+par and\n"
-  "                  mrf+par are not available yet)\n"
+  "  --method        go: B-spline FFD by gradient-based image registration; mrf: by discrete\n"
+  "                  Markov-random-field optimization of the control points; par: template\n"
+  "                  weights fitted to the meshes directly (needs --templates); go+par, mrf+par:\n"
+  "                  go or mrf, refined by par\n"
+  "  --templates     ITK transform file of B-spline templates on one grid (par methods)\n"
+  "  --template-split control-point (default): one weight per control point and template;\n"
+  "                  axis: per control point and axis; none: one weight per template\n"
+  "  --mrf-weight    regularization weight lambda of method mrf (default 5)\n"
   "  --output        deformed source: the source's vertex order and cells, moved onto the target\n"
   "  --grid          control points per axis of the final B-spline grid, >= 4 (default 20)\n"
   "  --voxel-size    voxel edge length in mesh units (default 1.0)\n"
@@ -254,6 +260,14 @@ ParseArguments(int argc, char * argv[])
         throw Error(argument + " must be >= 0");
       }
       (argument == "--bending-weight" ? options.bendingWeight : options.foldingWeight) = weight;
+    }
+    else if (argument == "--mrf-weight")
+    {
+      options.mrfWeight = ParseNumber(argument, value());
+      if (options.mrfWeight < 0.0)
+      {
+        throw Error("--mrf-weight must be >= 0");
+      }
     }
     else if (argument == "--time-limit")
     {
@@ -786,7 +800,24 @@ Register(const ffd::RegistrationInputs & inputs, const Options & options)
   {
     return ffd::RegisterGO(inputs, options);
   }
-  throw Error("method " + options.method + " is not available yet (use go)");
+  if (options.method == "mrf")
+  {
+    return ffd::RegisterMRF(inputs, options);
+  }
+  if (options.method == "par")
+  {
+    return ffd::RegisterPar(inputs, options, nullptr);
+  }
+  // go+par, mrf+par: the voxel method's result is Par's starting point; the record keeps both stages.
+  const ffd::RegistrationResult voxel =
+    options.method == "go+par" ? ffd::RegisterGO(inputs, options) : ffd::RegisterMRF(inputs, options);
+  ffd::RegistrationResult refined = ffd::RegisterPar(inputs, options, voxel.transform);
+  refined.metricName = voxel.metricName + ", then " + refined.metricName;
+  refined.stopCondition = voxel.stopCondition +
+                          (voxel.stopCondition.empty() || voxel.stopCondition.back() == '\n' ? "" : "\n") +
+                          refined.stopCondition;
+  refined.timeLimitReached = voxel.timeLimitReached;
+  return refined;
 }
 
 double

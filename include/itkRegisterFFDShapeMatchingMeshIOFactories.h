@@ -22,16 +22,18 @@
 
 /** \file itkRegisterFFDShapeMatchingMeshIOFactories.h
  * \brief One call that makes MeshFileReader and MeshFileWriter handle every mesh format of the
- * module's programs: OFF, OBJ and legacy VTK (ITK's own mesh IOs) and STL, PLY and VTP
- * (VTKSurfaceMeshIO).
+ * module's programs: OFF, OBJ and legacy VTK (read by StrictTextMeshIO, written by ITK's own
+ * mesh IOs) and STL, PLY and VTP (VTKSurfaceMeshIO).
  *
  * \ingroup FFDShapeMatching
  */
 
 namespace itk
 {
-/** Registers the mesh IO factories of OFFMeshIO, OBJMeshIO, VTKPolyDataMeshIO (legacy .vtk)
- * and VTKSurfaceMeshIO (.stl, .ply, .vtp) with ITK's object factory, each one only when no
+/** Registers the mesh IO factories of OFFMeshIO, OBJMeshIO, VTKPolyDataMeshIO (legacy .vtk),
+ * VTKSurfaceMeshIO (.stl, .ply, .vtp) and StrictTextMeshIO (reads .off, .obj, .vtk; registered
+ * at the front, so that it reads these files instead of ITK's IOs, which keep writing them)
+ * with ITK's object factory, each one only when no
  * factory of its type is registered yet, so calling it again (or after ITK's own automatic
  * registration) changes nothing. Not to be called concurrently with the creation of IO
  * objects.

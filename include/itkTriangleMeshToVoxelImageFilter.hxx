@@ -21,11 +21,16 @@
 #include "itkTriangleMeshToVoxelImageFilter.h"
 #include "itkCellInterface.h"
 #include "itkImageRegionIteratorWithIndex.h"
+#include "itkImageScanlineIterator.h"
 #include "itkMath.h"
 #include "itkTotalProgressReporter.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <mutex>
+#include <unordered_map>
 #include <vector>
 
 namespace itk
@@ -158,6 +163,7 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::PrintSelf(std::ostream
   os << indent << "UnsignedDistance: " << (m_UnsignedDistance ? "On" : "Off") << std::endl;
   os << indent << "AbsoluteWindingNumber: " << (m_AbsoluteWindingNumber ? "On" : "Off") << std::endl;
   os << indent << "Beta: " << m_Beta << std::endl;
+  os << indent << "ScanLineAcceleration: " << (m_ScanLineAcceleration ? "On" : "Off") << std::endl;
   os << indent << "MaximumNumberOfVoxels: " << m_MaximumNumberOfVoxels << std::endl;
   os << indent << "NumberOfTriangles: " << m_NumberOfTriangles << std::endl;
   os << indent << "NumberOfDegenerateTriangles: " << m_NumberOfDegenerateTriangles << std::endl;
@@ -165,6 +171,14 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::PrintSelf(std::ostream
   os << indent << "HierarchyIsCurrent: " << (m_HierarchyIsCurrent ? "On" : "Off") << std::endl;
   os << indent << "EffectiveOccupancyDistance: " << m_EffectiveOccupancyDistance << std::endl;
   os << indent << "EffectiveBandWidth: " << m_EffectiveBandWidth << std::endl;
+  os << indent << "Edges with a net current (open or inconsistent surface): " << m_GradientBound.GetNumberOfEdges()
+     << std::endl;
+  os << indent << "IndexTriangles: " << m_IndexTriangles.size() << std::endl;
+  os << indent << "CrossingBins entries: " << m_CrossingBins.GetNumberOfEntries() << std::endl;
+  os << indent << "ReachBins entries: " << m_ReachBins.GetNumberOfEntries() << std::endl;
+  os << indent << "ReachMargin: " << m_ReachMargin[0] << ' ' << m_ReachMargin[1] << ' ' << m_ReachMargin[2]
+     << std::endl;
+  os << indent << "OrientationSign: " << m_OrientationSign << std::endl;
 }
 
 template <typename TInputMesh, typename TOutputImage>
@@ -293,6 +307,127 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::BeforeThreadedGenerate
     this->BuildTriangleHierarchy();
     m_HierarchyIsCurrent = true;
   }
+  if (this->UsesScanLines())
+  {
+    this->PrepareScanLines();
+  }
+}
+
+template <typename TInputMesh, typename TOutputImage>
+bool
+TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::UsesScanLines() const
+{
+  if (!m_ScanLineAcceleration || m_Mode == ModeEnum::WindingNumber)
+  {
+    return false;
+  }
+  // Distances across rows need an orthonormal direction; the solid and the exact distance do not.
+  const DirectionType & direction = this->GetOutput()->GetDirection();
+  for (unsigned int r = 0; r < 3; ++r)
+  {
+    for (unsigned int c = 0; c < 3; ++c)
+    {
+      double dot = 0.0;
+      for (unsigned int d = 0; d < 3; ++d)
+      {
+        dot += direction[d][r] * direction[d][c];
+      }
+      if (std::abs(dot - (r == c ? 1.0 : 0.0)) > 1e-9)
+      {
+        return m_Mode == ModeEnum::Solid || (m_Mode == ModeEnum::SignedDistance && m_ExactDistance);
+      }
+    }
+  }
+  return true;
+}
+
+template <typename TInputMesh, typename TOutputImage>
+void
+TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::PrepareScanLines()
+{
+  const OutputImageType * output = this->GetOutput();
+  // Continuous index = M (p - origin), M = (direction * diag(spacing))^-1.
+  const auto            inverseDirection = output->GetDirection().GetInverse();
+  const SpacingType &   spacing = output->GetSpacing();
+  const PointType &     origin = output->GetOrigin();
+  double                matrix[3][3];
+  std::array<double, 3> rowNorm{ { 0.0, 0.0, 0.0 } };
+  for (unsigned int r = 0; r < 3; ++r)
+  {
+    for (unsigned int c = 0; c < 3; ++c)
+    {
+      matrix[r][c] = inverseDirection[r][c] / spacing[r];
+      rowNorm[r] += matrix[r][c] * matrix[r][c];
+    }
+    rowNorm[r] = std::sqrt(rowNorm[r]);
+  }
+  const double determinant = matrix[0][0] * (matrix[1][1] * matrix[2][2] - matrix[1][2] * matrix[2][1]) -
+                             matrix[0][1] * (matrix[1][0] * matrix[2][2] - matrix[1][2] * matrix[2][0]) +
+                             matrix[0][2] * (matrix[1][0] * matrix[2][1] - matrix[1][1] * matrix[2][0]);
+  m_OrientationSign = determinant < 0.0 ? -1 : 1;
+
+  const auto & triangles = m_Triangles;
+  m_IndexTriangles.resize(triangles.size());
+  const auto toIndex = [&matrix, &origin](const std::array<double, 3> & p) {
+    std::array<double, 3> result;
+    for (unsigned int r = 0; r < 3; ++r)
+    {
+      result[r] =
+        matrix[r][0] * (p[0] - origin[0]) + matrix[r][1] * (p[1] - origin[1]) + matrix[r][2] * (p[2] - origin[2]);
+    }
+    return result;
+  };
+  for (size_t t = 0; t < triangles.size(); ++t)
+  {
+    detail::IndexSpaceTriangle & it = m_IndexTriangles[t];
+    it.a = toIndex(triangles[t].a);
+    it.b = toIndex(triangles[t].b);
+    it.c = toIndex(triangles[t].c);
+    for (unsigned int k = 0; k < 3; ++k)
+    {
+      it.lower[k] = std::min({ it.a[k], it.b[k], it.c[k] });
+      it.upper[k] = std::max({ it.a[k], it.b[k], it.c[k] });
+    }
+  }
+
+  // Rows of the requested region only: a streamed piece bins the triangles of its own rows.
+  const OutputImageRegionType & region = output->GetRequestedRegion();
+  const long                    j0 = region.GetIndex(1);
+  const long                    j1 = j0 + static_cast<long>(region.GetSize(1)) - 1;
+  const long                    k0 = region.GetIndex(2);
+  const long                    k1 = k0 + static_cast<long>(region.GetSize(2)) - 1;
+  const bool needSign = m_Mode == ModeEnum::Solid || (m_Mode == ModeEnum::SignedDistance && !m_UnsignedDistance);
+  m_CrossingBins.Build(
+    needSign ? m_IndexTriangles : std::vector<detail::IndexSpaceTriangle>{}, j0, j1, k0, k1, 0.0, 0.0);
+
+  double reachDistance = -1.0;
+  switch (m_Mode)
+  {
+    case ModeEnum::Occupancy:
+      reachDistance = m_EffectiveOccupancyDistance;
+      break;
+    case ModeEnum::BandMask:
+      reachDistance = m_EffectiveBandWidth;
+      break;
+    case ModeEnum::SignedDistance:
+      reachDistance = m_ExactDistance ? -1.0 : m_EffectiveBandWidth;
+      break;
+    default:
+      break;
+  }
+  if (reachDistance >= 0.0)
+  {
+    // Grown a little so rounding never drops a voxel at exactly the reach distance.
+    for (unsigned int k = 0; k < 3; ++k)
+    {
+      m_ReachMargin[k] = (reachDistance * (1.0 + 1e-9) + 1e-9) * rowNorm[k] * (1.0 + 1e-9) + 1e-9;
+    }
+    m_ReachBins.Build(m_IndexTriangles, j0, j1, k0, k1, m_ReachMargin[1], m_ReachMargin[2]);
+  }
+  else
+  {
+    m_ReachBins.Build(std::vector<detail::IndexSpaceTriangle>{}, j0, j1, k0, k1, 0.0, 0.0);
+  }
 }
 
 template <typename TInputMesh, typename TOutputImage>
@@ -329,8 +464,46 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::BuildTriangleHierarchy
     itkExceptionMacro("The input mesh has no cells: it needs triangle cells.");
   }
 
+  // Points with the same coordinates share one vertex number, so that the net current of an edge
+  // (WindingNumberGradientBound) is found by vertex numbers even in a triangle soup.
+  std::vector<std::pair<VectorType, typename InputMeshType::PointIdentifier>> sortedPoints;
+  sortedPoints.reserve(points->Size());
+  typename InputMeshType::PointIdentifier largestId = 0;
+  for (auto it = points->Begin(); it != points->End(); ++it)
+  {
+    const auto & p = it.Value();
+    sortedPoints.emplace_back(
+      VectorType{ static_cast<double>(p[0]), static_cast<double>(p[1]), static_cast<double>(p[2]) }, it.Index());
+    largestId = std::max(largestId, it.Index());
+  }
+  std::sort(sortedPoints.begin(), sortedPoints.end());
+  const bool                 denseIds = largestId < 4 * sortedPoints.size() + 16;
+  std::vector<std::uint32_t> vertexOfDenseId(denseIds ? largestId + 1 : 0, 0);
+  std::unordered_map<typename InputMeshType::PointIdentifier, std::uint32_t> vertexOfSparseId;
+  std::uint32_t                                                              vertex = 0;
+  for (size_t i = 0; i < sortedPoints.size(); ++i)
+  {
+    if (i > 0 && sortedPoints[i].first != sortedPoints[i - 1].first)
+    {
+      ++vertex;
+    }
+    if (denseIds)
+    {
+      vertexOfDenseId[sortedPoints[i].second] = vertex;
+    }
+    else
+    {
+      vertexOfSparseId[sortedPoints[i].second] = vertex;
+    }
+  }
+  const auto vertexOf = [&](typename InputMeshType::PointIdentifier id) {
+    return denseIds ? vertexOfDenseId[id] : vertexOfSparseId[id];
+  };
+
   std::vector<TriangleType> triangles;
   triangles.reserve(cells->Size());
+  std::vector<std::array<std::uint32_t, 3>> corners;
+  corners.reserve(cells->Size());
   SizeValueType numberOfDegenerate = 0;
   const auto    toVector = [points, this](typename InputMeshType::PointIdentifier id, SizeValueType cellId) {
     if (!points->IndexExists(id))
@@ -383,6 +556,7 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::BuildTriangleHierarchy
         continue;
       }
       triangles.push_back(triangle);
+      corners.push_back({ { vertexOf(ids[0]), vertexOf(ids[i]), vertexOf(ids[i + 1]) } });
     }
   }
   m_NumberOfDegenerateTriangles = numberOfDegenerate;
@@ -392,7 +566,27 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::BuildTriangleHierarchy
     itkExceptionMacro("The input mesh has no triangle cells"
                       << (numberOfDegenerate > 0 ? " of non-zero area (all are degenerate)." : "."));
   }
-  m_Hierarchy.Build(std::move(triangles));
+  m_GradientBound.Build(triangles, corners);
+  m_Triangles = std::move(triangles);
+  // Built on first use (GetHierarchy()): a closed surface's solid needs it only for voxels on the surface.
+  m_HierarchyBuilt = false;
+}
+
+template <typename TInputMesh, typename TOutputImage>
+auto
+TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::GetHierarchy() const
+  -> const detail::TriangleBoundingVolumeHierarchy &
+{
+  if (!m_HierarchyBuilt.load(std::memory_order_acquire))
+  {
+    const std::lock_guard<std::mutex> lock(m_HierarchyMutex);
+    if (!m_HierarchyBuilt.load(std::memory_order_relaxed))
+    {
+      m_Hierarchy.Build(m_Triangles);
+      m_HierarchyBuilt.store(true, std::memory_order_release);
+    }
+  }
+  return m_Hierarchy;
 }
 
 template <typename TInputMesh, typename TOutputImage>
@@ -403,8 +597,400 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::IsInside(double windin
 }
 
 template <typename TInputMesh, typename TOutputImage>
+bool
+TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::IsDecided(double value, double radius) const
+{
+  const auto straddles = [value, radius](double threshold) {
+    return value - radius <= threshold && value + radius >= threshold;
+  };
+  return !straddles(0.5) && !(m_AbsoluteWindingNumber && straddles(-0.5));
+}
+
+template <typename TInputMesh, typename TOutputImage>
 void
 TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::DynamicThreadedGenerateData(
+  const OutputImageRegionType & outputRegionForThread)
+{
+  if (this->UsesScanLines())
+  {
+    this->GenerateByScanLines(outputRegionForThread);
+  }
+  else
+  {
+    this->GeneratePerVoxel(outputRegionForThread);
+  }
+}
+
+template <typename TInputMesh, typename TOutputImage>
+void
+TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::ComputeRowSquaredDistances(
+  long                                                                     first,
+  long                                                                     j,
+  long                                                                     k,
+  double                                                                   radius,
+  bool                                                                     anyWithin,
+  const std::vector<detail::TriangleBoundingVolumeHierarchy::VectorType> & points,
+  std::vector<double> &                                                    squaredDistances) const
+{
+  // Physical coordinates across the row are (spacing[1] y, spacing[2] z) of continuous index space
+  // (orthonormal direction), along the row spacing[0] x: the distance from a voxel to a triangle is at
+  // least the distance between their projections across the row, combined with the gap between the
+  // voxel and the triangle's extent along it. Triangles are visited nearest-first across the row, and
+  // a voxel computes the exact distance to a triangle only when that lower bound can beat its best.
+  const OutputImageType * output = this->GetOutput();
+  const SpacingType &     spacing = output->GetSpacing();
+  const double            unit = std::min({ spacing[0], spacing[1], spacing[2] });
+  const double            limit = radius * radius * (1.0 + 1e-9) + 1e-9 * unit * unit;
+  const double            radiusSquared = radius * radius;
+  const long              count = static_cast<long>(squaredDistances.size());
+  const double            y = spacing[1] * static_cast<double>(j);
+  const double            z = spacing[2] * static_cast<double>(k);
+  std::fill(squaredDistances.begin(), squaredDistances.end(), std::numeric_limits<double>::infinity());
+
+  // Candidates sorted by distance across the row through one integer key: the bits of a non-negative
+  // float order as its values do (the order only speeds the pruning up, it never changes a result).
+  struct Candidate
+  {
+    double        across;
+    double        lower;
+    double        upper;
+    double        planeOffset; // Signed distance to the triangle's plane at x = 0 of the row ...
+    double        planeSlope;  // ... and its change per unit of x (physical units along the row).
+    std::uint32_t triangle;
+  };
+  std::vector<Candidate>     candidates;
+  std::vector<std::uint64_t> keys;
+  for (const std::uint32_t * it = m_ReachBins.Begin(j, k); it != m_ReachBins.End(j, k); ++it)
+  {
+    const detail::IndexSpaceTriangle & t = m_IndexTriangles[*it];
+    const double                       gapY =
+      spacing[1] * std::max({ t.lower[1] - static_cast<double>(j), static_cast<double>(j) - t.upper[1], 0.0 });
+    const double gapZ =
+      spacing[2] * std::max({ t.lower[2] - static_cast<double>(k), static_cast<double>(k) - t.upper[2], 0.0 });
+    if ((gapY * gapY + gapZ * gapZ) * (1.0 - 1e-9) - 1e-9 * unit * unit >= limit)
+    {
+      continue;
+    }
+    const double a[2] = { spacing[1] * t.a[1], spacing[2] * t.a[2] };
+    const double b[2] = { spacing[1] * t.b[1], spacing[2] * t.b[2] };
+    const double c[2] = { spacing[1] * t.c[1], spacing[2] * t.c[2] };
+    const double across = detail::PlaneTriangleSquaredDistance(y, z, a, b, c);
+    if (across * (1.0 - 1e-9) - 1e-9 * unit * unit >= limit)
+    {
+      continue;
+    }
+    // The triangle's plane in the grid's frame scaled to physical units: its distance is a second lower bound.
+    const double sa[3] = { spacing[0] * t.a[0], spacing[1] * t.a[1], spacing[2] * t.a[2] };
+    double       ab[3], ac[3];
+    for (unsigned int d = 0; d < 3; ++d)
+    {
+      ab[d] = spacing[d] * t.b[d] - sa[d];
+      ac[d] = spacing[d] * t.c[d] - sa[d];
+    }
+    double normal[3] = { ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2], ab[0] * ac[1] - ab[1] * ac[0] };
+    const double normalLength = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+    double       planeOffset = 0.0;
+    double       planeSlope = 0.0;
+    if (normalLength > 0.0)
+    {
+      for (double & component : normal)
+      {
+        component /= normalLength;
+      }
+      planeOffset = normal[1] * (y - sa[1]) + normal[2] * (z - sa[2]) - normal[0] * sa[0];
+      planeSlope = normal[0];
+    }
+    const auto    rank = static_cast<float>(across);
+    std::uint32_t bits;
+    std::memcpy(&bits, &rank, sizeof(bits));
+    keys.push_back((static_cast<std::uint64_t>(bits) << 32) | candidates.size());
+    candidates.push_back(
+      Candidate{ across, spacing[0] * t.lower[0], spacing[0] * t.upper[0], planeOffset, planeSlope, *it });
+  }
+  std::sort(keys.begin(), keys.end());
+  detail::TriangleBoundingVolumeHierarchy::VectorType closest;
+  for (const std::uint64_t key : keys)
+  {
+    const Candidate & candidate = candidates[key & 0xffffffffu];
+    const double      reach = std::sqrt(std::max(0.0, limit - candidate.across)) / spacing[0];
+    const double from = std::max(std::ceil(candidate.lower / spacing[0] - reach) - static_cast<double>(first), 0.0);
+    const double to = std::min(std::floor(candidate.upper / spacing[0] + reach) - static_cast<double>(first),
+                               static_cast<double>(count - 1));
+    const auto & triangle = m_Triangles[candidate.triangle];
+    for (double position = from; position <= to; position += 1.0)
+    {
+      const auto   i = static_cast<size_t>(position);
+      double &     best = squaredDistances[i];
+      const double x = spacing[0] * (static_cast<double>(first) + position);
+      const double gap = std::max({ candidate.lower - x, x - candidate.upper, 0.0 });
+      const double plane = candidate.planeOffset + candidate.planeSlope * x;
+      const double lowerBound =
+        std::max(candidate.across + gap * gap, plane * plane) * (1.0 - 1e-9) - 1e-9 * unit * unit;
+      if (lowerBound >= std::min(best, limit) || (anyWithin && best <= radiusSquared))
+      {
+        continue;
+      }
+      best = std::min(best, detail::ClosestPointOnTriangle(points[i], triangle.a, triangle.b, triangle.c, closest));
+    }
+  }
+}
+
+template <typename TInputMesh, typename TOutputImage>
+void
+TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::ComputeRowInside(long                first,
+                                                                           long                j,
+                                                                           long                k,
+                                                                           std::vector<char> & inside) const
+{
+  using VectorType = detail::TriangleBoundingVolumeHierarchy::VectorType;
+  const OutputImageType * output = this->GetOutput();
+  const long              count = static_cast<long>(inside.size());
+
+  std::vector<detail::ScanLineCrossing>  crossings;
+  std::vector<std::pair<double, double>> uncertain;
+  detail::ScanLineCrossings(static_cast<double>(j),
+                            static_cast<double>(k),
+                            m_IndexTriangles,
+                            m_CrossingBins.Begin(j, k),
+                            m_CrossingBins.End(j, k),
+                            m_OrientationSign,
+                            crossings,
+                            uncertain);
+
+  // Signed crossing count before each voxel centre; voxels within rounding of a crossing, or along a
+  // triangle seen edge-on, are ties that the winding number decides.
+  constexpr double  tieTolerance = 1e-7;
+  std::vector<int>  crossingCount(inside.size());
+  std::vector<char> tie(inside.size(), 0);
+  size_t            next = 0;
+  int               running = 0;
+  for (long i = 0; i < count; ++i)
+  {
+    const double x = static_cast<double>(first + i);
+    while (next < crossings.size() && crossings[next].x < x)
+    {
+      running += crossings[next++].jump;
+    }
+    crossingCount[i] = running;
+  }
+  const auto markTies = [first, count, &tie](double lower, double upper) {
+    const double from = std::max(std::ceil(lower - tieTolerance) - static_cast<double>(first), 0.0);
+    const double to =
+      std::min(std::floor(upper + tieTolerance) - static_cast<double>(first), static_cast<double>(count - 1));
+    for (double i = from; i <= to; i += 1.0)
+    {
+      tie[static_cast<size_t>(i)] = 1;
+    }
+  };
+  for (const auto & crossing : crossings)
+  {
+    markTies(crossing.x, crossing.x);
+  }
+  for (const auto & interval : uncertain)
+  {
+    markTies(interval.first, interval.second);
+  }
+
+  typename OutputImageType::IndexType index;
+  index[1] = j;
+  index[2] = k;
+  PointType  point;
+  const auto pointOf = [&](long i) {
+    index[0] = first + i;
+    output->TransformIndexToPhysicalPoint(index, point);
+    return VectorType{ static_cast<double>(point[0]), static_cast<double>(point[1]), static_cast<double>(point[2]) };
+  };
+  const auto windingNumber = [&](long i) { return this->GetHierarchy().WindingNumber(pointOf(i), m_Beta); };
+
+  if (m_GradientBound.GetNumberOfEdges() == 0)
+  {
+    // No edge carries a net current: w is the signed crossing count between crossings.
+    for (long i = 0; i < count; ++i)
+    {
+      inside[i] = this->IsInside(tie[i] ? windingNumber(i) : static_cast<double>(crossingCount[i]));
+    }
+    return;
+  }
+
+  // Open or inconsistent surface: w = crossing count + c(x), c continuous with |c'| bounded by the
+  // net-current edges. Bisection: evaluate w at the middle voxel of a range, predict the others with
+  // that bound (plus the far-field tolerance), split where the prediction cannot decide.
+  const double                       tolerance = m_Beta > 0.0 ? 0.25 : 1e-6;
+  const double                       step = output->GetSpacing()[0];
+  std::vector<std::pair<long, long>> ranges;
+  ranges.emplace_back(0, count - 1);
+  while (!ranges.empty())
+  {
+    const long a = ranges.back().first;
+    const long b = ranges.back().second;
+    ranges.pop_back();
+    const long   m = a + (b - a) / 2;
+    const double w = windingNumber(m);
+    inside[m] = this->IsInside(w);
+    if (a == b)
+    {
+      continue;
+    }
+    if (tie[m])
+    {
+      // On (or along) the surface w is not the crossing count plus a continuous part: predict from no tie.
+      if (m > a)
+      {
+        ranges.emplace_back(a, m - 1);
+      }
+      ranges.emplace_back(m + 1, b);
+      continue;
+    }
+    const double     offset = w - static_cast<double>(crossingCount[m]);
+    const VectorType pa = pointOf(a);
+    const VectorType pb = pointOf(b);
+    VectorType       lower;
+    VectorType       upper;
+    for (unsigned int d = 0; d < 3; ++d)
+    {
+      lower[d] = std::min(pa[d], pb[d]);
+      upper[d] = std::max(pa[d], pb[d]);
+    }
+    const double gradient = m_GradientBound.Bound(lower, upper);
+    long         leftFirst = -1, leftLast = -1, rightFirst = -1, rightLast = -1;
+    for (long v = a; v <= b; ++v)
+    {
+      if (v == m)
+      {
+        continue;
+      }
+      const double value = static_cast<double>(crossingCount[v]) + offset;
+      const double radius = gradient * step * static_cast<double>(std::abs(v - m)) + tolerance;
+      if (!tie[v] && std::isfinite(radius) && this->IsDecided(value, radius))
+      {
+        inside[v] = this->IsInside(value);
+      }
+      else if (v < m)
+      {
+        leftFirst = leftFirst < 0 ? v : leftFirst;
+        leftLast = v;
+      }
+      else
+      {
+        rightFirst = rightFirst < 0 ? v : rightFirst;
+        rightLast = v;
+      }
+    }
+    if (leftFirst >= 0)
+    {
+      ranges.emplace_back(leftFirst, leftLast);
+    }
+    if (rightFirst >= 0)
+    {
+      ranges.emplace_back(rightFirst, rightLast);
+    }
+  }
+}
+
+template <typename TInputMesh, typename TOutputImage>
+void
+TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::GenerateByScanLines(const OutputImageRegionType & region)
+{
+  using VectorType = detail::TriangleBoundingVolumeHierarchy::VectorType;
+  OutputImageType *     output = this->GetOutput();
+  TotalProgressReporter progress(this, output->GetRequestedRegion().GetNumberOfPixels());
+
+  const double band = m_EffectiveBandWidth;
+  const double bandSquared = band * band;
+  const bool   needSign = m_Mode == ModeEnum::Solid || (m_Mode == ModeEnum::SignedDistance && !m_UnsignedDistance);
+  const bool   needReach = m_Mode == ModeEnum::Occupancy || m_Mode == ModeEnum::BandMask ||
+                         (m_Mode == ModeEnum::SignedDistance && !m_ExactDistance);
+  const long first = region.GetIndex(0);
+  const auto count = static_cast<size_t>(region.GetSize(0));
+  // Distance between neighbouring voxel centres of a row (for the exact distance's warm start).
+  double step = 0.0;
+  for (unsigned int d = 0; d < 3; ++d)
+  {
+    step += output->GetDirection()[d][0] * output->GetDirection()[d][0];
+  }
+  step = std::sqrt(step) * output->GetSpacing()[0];
+
+  std::vector<char>                                                inside(count, 0);
+  std::vector<double>                                              squaredDistances(count, 0.0);
+  std::vector<detail::TriangleBoundingVolumeHierarchy::VectorType> points(count);
+  const double                           radius = m_Mode == ModeEnum::Occupancy ? m_EffectiveOccupancyDistance : band;
+  const double                           radiusSquared = radius * radius;
+  PointType                              point;
+  ImageScanlineIterator<OutputImageType> it(output, region);
+  while (!it.IsAtEnd())
+  {
+    auto       index = it.GetIndex();
+    const long j = index[1];
+    const long k = index[2];
+    for (size_t i = 0; i < count; ++i)
+    {
+      index[0] = first + static_cast<long>(i);
+      output->TransformIndexToPhysicalPoint(index, point);
+      points[i] =
+        VectorType{ static_cast<double>(point[0]), static_cast<double>(point[1]), static_cast<double>(point[2]) };
+    }
+    if (needSign)
+    {
+      this->ComputeRowInside(first, j, k, inside);
+    }
+    if (needReach)
+    {
+      this->ComputeRowSquaredDistances(
+        first, j, k, radius, m_Mode != ModeEnum::SignedDistance, points, squaredDistances);
+    }
+    double previousDistance = -1.0;
+    for (size_t i = 0; i < count; ++i, ++it)
+    {
+      switch (m_Mode)
+      {
+        case ModeEnum::Occupancy:
+        case ModeEnum::BandMask:
+          it.Set(squaredDistances[i] <= radiusSquared ? m_InsideValue : m_OutsideValue);
+          break;
+        case ModeEnum::Solid:
+          it.Set(inside[i] ? m_InsideValue : m_OutsideValue);
+          break;
+        case ModeEnum::SignedDistance: {
+          double distance = band;
+          if (m_ExactDistance)
+          {
+            // The previous voxel's distance plus the step bounds this one; the query with that bound finds
+            // the same closest triangle, and falls back to an unbounded query when it finds none.
+            const double infinity = std::numeric_limits<double>::infinity();
+            const double bound = previousDistance >= 0.0
+                                   ? (previousDistance + step) * (previousDistance + step) * (1.0 + 1e-6) + 1e-12
+                                   : infinity;
+            double       squaredDistance = this->GetHierarchy().SquaredDistance(points[i], bound);
+            if (squaredDistance >= bound)
+            {
+              squaredDistance = this->GetHierarchy().SquaredDistance(points[i], infinity);
+            }
+            distance = std::sqrt(squaredDistance);
+            previousDistance = distance;
+          }
+          else if (squaredDistances[i] < bandSquared)
+          {
+            distance = std::sqrt(squaredDistances[i]);
+          }
+          if (needSign && inside[i])
+          {
+            distance = -distance;
+          }
+          it.Set(static_cast<OutputPixelType>(distance));
+          break;
+        }
+        case ModeEnum::WindingNumber:
+          break; // Per voxel (GeneratePerVoxel).
+      }
+    }
+    progress.Completed(count);
+    it.NextLine();
+  }
+}
+
+template <typename TInputMesh, typename TOutputImage>
+void
+TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::GeneratePerVoxel(
   const OutputImageRegionType & outputRegionForThread)
 {
   using VectorType = detail::TriangleBoundingVolumeHierarchy::VectorType;
@@ -424,22 +1010,23 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::DynamicThreadedGenerat
     switch (m_Mode)
     {
       case ModeEnum::Occupancy:
-        it.Set(m_Hierarchy.AnyTriangleWithin(q, m_EffectiveOccupancyDistance) ? m_InsideValue : m_OutsideValue);
+        it.Set(this->GetHierarchy().AnyTriangleWithin(q, m_EffectiveOccupancyDistance) ? m_InsideValue
+                                                                                       : m_OutsideValue);
         break;
       case ModeEnum::BandMask:
-        it.Set(m_Hierarchy.AnyTriangleWithin(q, band) ? m_InsideValue : m_OutsideValue);
+        it.Set(this->GetHierarchy().AnyTriangleWithin(q, band) ? m_InsideValue : m_OutsideValue);
         break;
       case ModeEnum::Solid:
-        it.Set(this->IsInside(m_Hierarchy.WindingNumber(q, beta)) ? m_InsideValue : m_OutsideValue);
+        it.Set(this->IsInside(this->GetHierarchy().WindingNumber(q, beta)) ? m_InsideValue : m_OutsideValue);
         break;
       case ModeEnum::WindingNumber:
-        it.Set(static_cast<OutputPixelType>(m_Hierarchy.WindingNumber(q, beta)));
+        it.Set(static_cast<OutputPixelType>(this->GetHierarchy().WindingNumber(q, beta)));
         break;
       case ModeEnum::SignedDistance: {
-        const double squaredDistance =
-          m_Hierarchy.SquaredDistance(q, m_ExactDistance ? std::numeric_limits<double>::infinity() : bandSquared);
+        const double squaredDistance = this->GetHierarchy().SquaredDistance(
+          q, m_ExactDistance ? std::numeric_limits<double>::infinity() : bandSquared);
         double distance = (!m_ExactDistance && squaredDistance >= bandSquared) ? band : std::sqrt(squaredDistance);
-        if (!m_UnsignedDistance && this->IsInside(m_Hierarchy.WindingNumber(q, beta)))
+        if (!m_UnsignedDistance && this->IsInside(this->GetHierarchy().WindingNumber(q, beta)))
         {
           distance = -distance;
         }

@@ -19,6 +19,7 @@
 
 #include "itkOBJMeshIOFactory.h"
 #include "itkOFFMeshIOFactory.h"
+#include "itkStrictTextMeshIOFactory.h"
 #include "itkVTKPolyDataMeshIOFactory.h"
 #include "itkVTKSurfaceMeshIOFactory.h"
 
@@ -49,5 +50,8 @@ RegisterFFDShapeMatchingMeshIOFactories()
   RegisterFactoryOnce<OBJMeshIOFactory>();
   RegisterFactoryOnce<VTKPolyDataMeshIOFactory>();
   RegisterFactoryOnce<VTKSurfaceMeshIOFactory>();
+  // Inserted at the front: MeshIOFactory asks the IOs in registration order, so the strict
+  // reader takes .off, .obj and .vtk files before ITK's IOs above (which still write them).
+  RegisterFactoryOnce<StrictTextMeshIOFactory>();
 }
 } // namespace itk

@@ -595,6 +595,7 @@ itkTriangleMeshToVoxelImageFilterTest(int argc, char * argv[])
   ITK_TEST_SET_GET_BOOLEAN(filter, ExactDistance, true);
   ITK_TEST_SET_GET_BOOLEAN(filter, UnsignedDistance, true);
   ITK_TEST_SET_GET_BOOLEAN(filter, AbsoluteWindingNumber, false);
+  ITK_TEST_SET_GET_BOOLEAN(filter, ScanLineAcceleration, true);
   filter->SetMaximumNumberOfVoxels(1000);
   ITK_TEST_SET_GET_VALUE(1000u, filter->GetMaximumNumberOfVoxels());
   MaskFilterType::SizeType size = { { 4, 5, 6 } };

@@ -1,0 +1,933 @@
+#!/usr/bin/env python3
+"""The paper's experiment (Tables 2 and 3) for the module's methods and the peers, from one command.
+
+Usage: benchmark/run.sh [options]   (or python3 benchmark/run_benchmark.py [options]); see benchmark/README.md.
+
+Steps: install missing Debian packages (elastix, plastimatch, libcgal-demo, gnuplot-nox, time), build the
+project (cmake in ./build), extract the CGAL meshes, generate the cases (mesh x regime x seed) with
+ffd-benchmark-tool, run every method (ffd-match --method ...) and every peer (elastix, plastimatch) with
+/usr/bin/time -v per stage, score every result with ffd-benchmark-tool, and write RESULTS.md, results.json
+and the PNG charts into the results folder (default: benchmark/).
+"""
+
+import argparse
+import datetime
+import json
+import math
+import os
+import platform
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import tarfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+CGAL_DATA = "/usr/share/doc/libcgal-dev/data.tar.gz"
+ALL_MESHES = ["fandisk_large", "bunny00", "diplodocus", "cheese"]
+ALL_REGIMES = ["paper", "smooth"]
+ALL_METHODS = ["go", "mrf", "par", "go+par", "mrf+par"]
+ALL_PEERS = ["elastix", "plastimatch-mi", "plastimatch-mse"]
+PACKAGES = ["elastix", "plastimatch", "libcgal-demo", "gnuplot-nox", "time"]
+SMOKE_MESH = "smoke-torus"
+
+
+def log(message):
+    print("run_benchmark: " + message, file=sys.stderr, flush=True)
+
+
+# ------------------------------------------------------------------------------------------------
+# Setup: packages, build, meshes
+
+
+def install_packages():
+    missing = []
+    for package in PACKAGES:
+        status = subprocess.run(["dpkg-query", "-W", "-f=${Status}", package], capture_output=True, text=True)
+        if "install ok installed" not in status.stdout:
+            missing.append(package)
+    if not missing:
+        return
+    prefix = [] if os.geteuid() == 0 else (["sudo"] if shutil.which("sudo") else None)
+    if prefix is None:
+        log("missing packages %s and neither root nor sudo: continuing without them" % " ".join(missing))
+        return
+    log("installing " + " ".join(missing))
+    environment = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+    subprocess.run(prefix + ["apt-get", "update", "-q"], check=True, env=environment)
+    subprocess.run(prefix + ["apt-get", "install", "-y", "-q", "--no-install-recommends"] + missing, check=True,
+                   env=environment)
+
+
+def build_project(build_dir, install):
+    if install:
+        subprocess.run(["bash", os.path.join(ROOT, "Utilities", "InstallDependencies.sh")], check=True)
+    subprocess.run(["cmake", "-S", ROOT, "-B", build_dir, "-DCMAKE_BUILD_TYPE=Release"], check=True)
+    jobs = str(os.cpu_count() or 2)
+    subprocess.run(["cmake", "--build", build_dir, "-j" + jobs, "--target", "ffd-match", "ffd-voxelize",
+                    "ffd-benchmark-tool"], check=True)
+
+
+def extract_meshes(names, folder):
+    os.makedirs(folder, exist_ok=True)
+    paths = {}
+    wanted = {"data/meshes/%s.off" % name: name for name in names if name != SMOKE_MESH}
+    if wanted:
+        if not os.path.exists(CGAL_DATA):
+            raise SystemExit("run_benchmark: %s is missing (Debian package libcgal-demo)" % CGAL_DATA)
+        with tarfile.open(CGAL_DATA) as archive:
+            for member in archive.getmembers():
+                if member.name in wanted:
+                    name = wanted[member.name]
+                    path = os.path.join(folder, name + ".off")
+                    with archive.extractfile(member) as data, open(path, "wb") as out:
+                        out.write(data.read())
+                    paths[name] = path
+        for name in wanted.values():
+            if name not in paths:
+                raise SystemExit("run_benchmark: %s.off is not in %s" % (name, CGAL_DATA))
+    if SMOKE_MESH in names:
+        paths[SMOKE_MESH] = write_torus(os.path.join(folder, SMOKE_MESH + ".off"))
+    return paths
+
+
+def write_torus(path, major=30.0, minor=12.0, segments=48, rings=24):
+    """A bumpy torus (2,304 triangles), the smoke case's mesh: made here, so the smoke case needs no download."""
+    points = []
+    for i in range(segments):
+        u = 2.0 * math.pi * i / segments
+        for j in range(rings):
+            v = 2.0 * math.pi * j / rings
+            r = minor * (1.0 + 0.15 * math.sin(3.0 * u) * math.cos(2.0 * v))
+            points.append(((major + r * math.cos(v)) * math.cos(u), (major + r * math.cos(v)) * math.sin(u),
+                           r * math.sin(v)))
+    triangles = []
+    for i in range(segments):
+        for j in range(rings):
+            a = i * rings + j
+            b = ((i + 1) % segments) * rings + j
+            c = ((i + 1) % segments) * rings + (j + 1) % rings
+            d = i * rings + (j + 1) % rings
+            triangles += [(a, b, c), (a, c, d)]
+    with open(path, "w") as out:
+        out.write("OFF\n%d %d 0\n" % (len(points), len(triangles)))
+        out.writelines("%.9g %.9g %.9g\n" % p for p in points)
+        out.writelines("3 %d %d %d\n" % t for t in triangles)
+    return path
+
+
+# ------------------------------------------------------------------------------------------------
+# Running and timing
+
+
+class Stage:
+    """One timed process: wall time (s), peak resident memory (MB), exit code, the end of its output."""
+
+    def __init__(self, name, seconds, peak_mb, returncode, output):
+        self.name = name
+        self.seconds = seconds
+        self.peak_mb = peak_mb
+        self.returncode = returncode
+        self.output = output
+
+    def ok(self):
+        return self.returncode == 0
+
+    def record(self):
+        return {"stage": self.name, "seconds": self.seconds, "peak_mb": self.peak_mb, "exit_code": self.returncode}
+
+    def reason(self):
+        lines = [line for line in self.output.splitlines() if line.strip() and not line.startswith("$ ")]
+        errors = [line for line in lines if "error" in line.lower()]
+        if self.returncode > 128 or self.returncode < 0:
+            text = "killed by signal %d" % (self.returncode - 128 if self.returncode > 128 else -self.returncode)
+        else:
+            text = (errors or lines or ["no output"])[-1].strip()
+        return "%s failed (exit %d): %s" % (self.name, self.returncode, text[:200])
+
+
+TIME = os.access("/usr/bin/time", os.X_OK)
+
+
+def run(name, command, log_path, environment=None, timeout=3600):
+    """Runs command under /usr/bin/time -v (or os.wait4 when it is missing); output goes to log_path."""
+    time_path = log_path + ".time"
+    full = (["/usr/bin/time", "-v", "-o", time_path] + command) if TIME else command
+    start = time.monotonic()
+    with open(log_path, "w") as out:
+        out.write("$ " + " ".join(command) + "\n")
+        out.flush()
+        process = subprocess.Popen(full, stdout=out, stderr=subprocess.STDOUT, env=environment)
+        try:
+            _, status, usage = os.wait4(process.pid, 0)
+            process.returncode = os.waitstatus_to_exitcode(status)
+        except KeyboardInterrupt:
+            process.kill()
+            raise
+    wall = time.monotonic() - start
+    peak_mb = usage.ru_maxrss / 1024.0
+    returncode = process.returncode
+    if TIME and os.path.exists(time_path):
+        with open(time_path) as timing:
+            text = timing.read()
+        match = re.search(r"Elapsed \(wall clock\) time.*: (?:(\d+):)?(\d+):([\d.]+)", text)
+        if match:
+            wall = int(match.group(1) or 0) * 3600 + int(match.group(2)) * 60 + float(match.group(3))
+        match = re.search(r"Maximum resident set size \(kbytes\): (\d+)", text)
+        if match:
+            peak_mb = int(match.group(1)) / 1024.0
+        match = re.search(r"Exit status: (\d+)", text)
+        if match:
+            returncode = int(match.group(1))
+        match = re.search(r"Command terminated by signal (\d+)", text)
+        if match:
+            returncode = 128 + int(match.group(1))
+    with open(log_path) as logged:
+        output = logged.read()[-4000:]
+    return Stage(name, wall, peak_mb, returncode, output)
+
+
+def read_json(path):
+    try:
+        with open(path) as data:
+            return json.load(data)
+    except (OSError, ValueError):
+        return None
+
+
+def tool_version(command, pattern):
+    try:
+        text = subprocess.run(command, capture_output=True, text=True, timeout=60).stdout
+    except (OSError, subprocess.SubprocessError):
+        return None
+    match = re.search(pattern, text)
+    return match.group(1) if match else text.strip()[:80] or None
+
+
+def package_version(package):
+    result = subprocess.run(["dpkg-query", "-W", "-f=${Version}", package], capture_output=True, text=True)
+    return result.stdout.strip() or None
+
+
+# ------------------------------------------------------------------------------------------------
+# Peers
+
+
+def grid_spacing(target_path, grid, voxel_size):
+    """The control-point spacing of ffd-match's grid: grid points over the target's bounds + its image margin
+    (band 2 voxels + 2 voxels), i.e. (extent + 8 voxels) / (grid - 3) per axis."""
+    low = [float("inf")] * 3
+    high = [float("-inf")] * 3
+    with open(target_path) as mesh:
+        tokens = mesh.read().split()
+    assert tokens[0] == "OFF", target_path
+    count = int(tokens[1])
+    for i in range(count):
+        for d in range(3):
+            value = float(tokens[4 + 3 * i + d])
+            low[d] = min(low[d], value)
+            high[d] = max(high[d], value)
+    margin = 4.0 * voxel_size
+    return [(high[d] - low[d] + 2.0 * margin) / (grid - 3) for d in range(3)]
+
+
+ELASTIX_PARAMETERS = """// B-spline registration of the unsigned distance images of the meshes (benchmark/README.md).
+(FixedInternalImagePixelType "float")
+(MovingInternalImagePixelType "float")
+(FixedImageDimension 3)
+(MovingImageDimension 3)
+(UseDirectionCosines "true")
+(Registration "MultiResolutionRegistration")
+(Interpolator "BSplineInterpolator")
+(ResampleInterpolator "FinalBSplineInterpolator")
+(Resampler "DefaultResampler")
+(FixedImagePyramid "FixedSmoothingImagePyramid")
+(MovingImagePyramid "MovingSmoothingImagePyramid")
+(Optimizer "AdaptiveStochasticGradientDescent")
+(Transform "BSplineTransform")
+(Metric "AdvancedMattesMutualInformation")
+(NumberOfHistogramBins 32)
+(FinalGridSpacingInPhysicalUnits {spacing})
+(GridSpacingSchedule {schedule})
+(HowToCombineTransforms "Compose")
+(NumberOfResolutions {resolutions})
+(MaximumNumberOfIterations {iterations})
+(ImageSampler "RandomCoordinate")
+(NumberOfSpatialSamples {samples})
+(NewSamplesEveryIteration "true")
+(UseRandomSampleRegion "false")
+(ErodeMask "false")
+(BSplineInterpolationOrder 1)
+(FinalBSplineInterpolationOrder 3)
+(AutomaticParameterEstimation "true")
+(AutomaticTransformInitialization "false")
+(DefaultPixelValue 0)
+(WriteResultImage "false")
+(ResultImageFormat "mha")
+(RandomSeed {seed})
+"""
+
+PLASTIMATCH_COMMAND = """# B-spline registration of the unsigned distance images of the meshes (benchmark/README.md).
+[GLOBAL]
+fixed={fixed}
+moving={moving}
+fixed_roi={mask}
+vf_out={field}
+
+[STAGE]
+xform=bspline
+impl=plastimatch
+optim=lbfgsb
+threading=openmp
+metric={metric}
+regularization_lambda={regularization}
+max_its={iterations}
+convergence_tol=1e-5
+grad_tol=1e-4
+grid_spac={coarse}
+res=2 2 2
+
+[STAGE]
+max_its={fine_iterations}
+grid_spac={spacing}
+res=1 1 1
+"""
+
+
+def peer_images(case, work, tools, voxel_size, threads, smoke):
+    """Voxelizes both meshes with ffd-voxelize on one common grid, the target's bounds + 8 voxels (as ffd-match's
+    fixed image, so a peer's B-spline grid at the module's spacing has the module's number of control points):
+    unsigned distance (sdf mode, band 5 voxels) of each mesh, and a band mask around the target surface that
+    restricts the metric's samples."""
+    folder = os.path.join(work, "images")
+    os.makedirs(folder, exist_ok=True)
+    fixed = os.path.join(folder, "target.mha")
+    moving = os.path.join(folder, "source.mha")
+    mask = os.path.join(folder, "target-band.mha")
+    band = "%g" % (5.0 * voxel_size)
+    stages = []
+    common = ["--threads", str(threads)]
+    stages.append(run("voxelize-target", [tools["ffd-voxelize"], case["target"], fixed, "--mode", "sdf", "--unsigned",
+                                          "--voxel-size", "%g" % voxel_size, "--margin", "%g" % (8 * voxel_size),
+                                          "--band-width", band] + common, os.path.join(folder, "voxelize-target.log")))
+    if stages[-1].ok():
+        stages.append(run("voxelize-source", [tools["ffd-voxelize"], case["source"], moving, "--mode", "sdf",
+                                              "--unsigned", "--reference", fixed, "--band-width", band] + common,
+                          os.path.join(folder, "voxelize-source.log")))
+    if stages[-1].ok():
+        stages.append(run("voxelize-mask", [tools["ffd-voxelize"], case["target"], mask, "--mode", "band",
+                                            "--reference", fixed, "--band-width", band] + common,
+                          os.path.join(folder, "voxelize-mask.log")))
+    return {"fixed": fixed, "moving": moving, "mask": mask, "stages": stages}
+
+
+def run_elastix(case, images, folder, tools, options):
+    spacing = grid_spacing(case["target"], options.grid, options.voxel_size)
+    resolutions = 1 if options.smoke else 3
+    parameters = os.path.join(folder, "elastix-bspline.txt")
+    with open(parameters, "w") as out:
+        out.write(ELASTIX_PARAMETERS.format(
+            spacing=" ".join("%.4f" % s for s in spacing),
+            schedule=" ".join(" ".join([str(2 ** (resolutions - 1 - level))] * 3) for level in range(resolutions)),
+            resolutions=resolutions, iterations=200 if options.smoke else 500, samples=2048, seed=case["seed"] + 1))
+    stages = [run("register", ["elastix", "-f", images["fixed"], "-m", images["moving"], "-fMask", images["mask"],
+                               "-p", parameters, "-out", folder, "-threads", str(options.threads)],
+                  os.path.join(folder, "register.log"))]
+    field = os.path.join(folder, "deformationField.mha")
+    if stages[-1].ok():
+        stages.append(run("field", ["transformix", "-def", "all", "-tp", os.path.join(folder, "TransformParameters.0.txt"),
+                                    "-out", folder, "-threads", str(options.threads)], os.path.join(folder, "field.log")))
+        if stages[-1].ok() and not os.path.exists(field):
+            alternatives = [name for name in os.listdir(folder) if name.startswith("deformationField.")
+                            and not name.endswith(".raw")]
+            if alternatives:
+                field = os.path.join(folder, alternatives[0])
+    return stages, field
+
+
+PLASTIMATCH_LAMBDA = os.environ.get("FFD_PLASTIMATCH_LAMBDA", "0.005")
+
+
+def run_plastimatch(case, images, folder, tools, options, metric):
+    spacing = grid_spacing(case["target"], options.grid, options.voxel_size)
+    command = os.path.join(folder, "plastimatch-bspline.txt")
+    field = os.path.join(folder, "vf.mha")
+    with open(command, "w") as out:
+        out.write(PLASTIMATCH_COMMAND.format(
+            fixed=images["fixed"], moving=images["moving"], mask=images["mask"], field=field, metric=metric,
+            iterations=30 if options.smoke else 100, fine_iterations=20 if options.smoke else 40, regularization=PLASTIMATCH_LAMBDA, coarse=" ".join("%.4f" % (2 * s) for s in spacing),
+            spacing=" ".join("%.4f" % s for s in spacing)))
+    environment = dict(os.environ, OMP_NUM_THREADS=str(options.threads))
+    stages = [run("register", ["plastimatch", "register", command], os.path.join(folder, "register.log"),
+                  environment=environment)]
+    if stages[-1].ok() and not os.path.exists(field):
+        stages[-1].returncode = 1
+        stages[-1].output += "\nerror: plastimatch wrote no vector field"
+    return stages, field
+
+
+# ------------------------------------------------------------------------------------------------
+# One case
+
+
+def make_case(mesh_name, mesh_path, regime, seed, work, tools, options):
+    folder = os.path.join(work, "cases", "%s-%s-%d" % (mesh_name, regime, seed))
+    inputs = os.path.join(folder, "inputs")
+    truth = os.path.join(folder, "truth")
+    os.makedirs(inputs, exist_ok=True)
+    os.makedirs(truth, exist_ok=True)
+    stage = run("case", [tools["ffd-benchmark-tool"], "case", "--mesh", mesh_path, "--out-dir", inputs, "--truth-dir",
+                         truth, "--regime", regime, "--seed", str(seed), "--fraction", "%g" % options.fraction,
+                         "--grid", str(options.grid)], os.path.join(folder, "case.log"))
+    if not stage.ok():
+        raise RuntimeError("case generation failed for %s %s %d: %s" % (mesh_name, regime, seed, stage.reason()))
+    return {"mesh": mesh_name, "regime": regime, "seed": seed, "folder": folder,
+            "source": os.path.join(inputs, "source.off"), "target": os.path.join(inputs, "target.off"),
+            "truth": os.path.join(truth, "truth.txt"), "true_transform": os.path.join(truth, "T_true.tfm"),
+            "description": read_json(os.path.join(truth, "case.json"))}
+
+
+def score(case, deformed, folder, tools, extra):
+    output = os.path.join(folder, "score.json")
+    stage = run("score", [tools["ffd-benchmark-tool"], "score", "--deformed", deformed, "--target", case["target"],
+                          "--truth", case["truth"], "--output", output] + extra, os.path.join(folder, "score.log"))
+    return stage, (read_json(output) if stage.ok() else None)
+
+
+def result_record(case, name, kind, stages, scores, status, reason=None, extra=None):
+    record = {"mesh": case["mesh"], "regime": case["regime"], "seed": case["seed"], "name": name, "kind": kind,
+              "status": status, "reason": reason, "stages": [stage.record() for stage in stages],
+              "seconds_total": sum(stage.seconds for stage in stages if stage.name != "score"),
+              "peak_mb": max([stage.peak_mb for stage in stages if stage.name != "score"] or [0.0]),
+              "scores": scores}
+    if extra:
+        record.update(extra)
+    return record
+
+
+def run_method(case, method, tools, options):
+    folder = os.path.join(case["folder"], "methods", method.replace("+", "-"))
+    os.makedirs(folder, exist_ok=True)
+    deformed = os.path.join(folder, "deformed.off")
+    transform = os.path.join(folder, "transform.tfm")
+    report = os.path.join(folder, "report.json")
+    command = [tools["ffd-match"], "--source", case["source"], "--target", case["target"], "--method", method,
+               "--output", deformed, "--transform-out", transform, "--report", report, "--grid", str(options.grid),
+               "--voxel-size", "%g" % options.voxel_size, "--threads", str(options.threads),
+               "--seed", str(case["seed"] + 1)]
+    if "par" in method:
+        # The paper's protocol: the true noise directions per control point, magnitudes unknown.
+        command += ["--templates", case["true_transform"], "--template-split", "control-point"]
+    stage = run("match", command, os.path.join(folder, "match.log"))
+    if not stage.ok():
+        text = stage.output
+        match = re.search(r"ffd-match: error: (.*(?:not available yet|is not available).*)", text)
+        if match:
+            return result_record(case, method, "method", [], None, "not run", "not run: " + match.group(1).strip())
+        return result_record(case, method, "method", [stage], None, "failed", stage.reason())
+    score_stage, scores = score(case, deformed, folder, tools, ["--transform", transform])
+    report_data = read_json(report) or {}
+    if scores is not None and scores.get("min_jacobian_determinant") is None:
+        scores["min_jacobian_determinant"] = report_data.get("min_jacobian_determinant")
+        scores["jacobian_from"] = "ffd-match report"
+    seconds = report_data.get("seconds", {})
+    extra = {"register_seconds": seconds.get("register"), "stage_seconds": seconds}
+    if scores is None:
+        return result_record(case, method, "method", [stage, score_stage], None, "failed", score_stage.reason(), extra)
+    return result_record(case, method, "method", [stage, score_stage], scores, "ok", None, extra)
+
+
+def run_peer(case, peer, images, tools, options):
+    folder = os.path.join(case["folder"], "peers", peer)
+    os.makedirs(folder, exist_ok=True)
+    stages = list(images["stages"])
+    if not all(stage.ok() for stage in stages):
+        failed = [stage for stage in stages if not stage.ok()][0]
+        return result_record(case, peer, "peer", stages, None, "failed", failed.reason())
+    executable = "elastix" if peer == "elastix" else "plastimatch"
+    if shutil.which(executable) is None:
+        return result_record(case, peer, "peer", [], None, "not run", "not run: %s is not installed" % executable)
+    if peer == "elastix":
+        register_stages, field = run_elastix(case, images, folder, tools, options)
+    else:
+        register_stages, field = run_plastimatch(case, images, folder, tools, options, peer.split("-")[1])
+    stages += register_stages
+    register_seconds = sum(stage.seconds for stage in register_stages if stage.name == "register")
+    extra = {"register_seconds": register_seconds}
+    if not all(stage.ok() for stage in register_stages):
+        failed = [stage for stage in register_stages if not stage.ok()][0]
+        return result_record(case, peer, "peer", stages, None, "failed", failed.reason(), extra)
+    deformed = os.path.join(folder, "deformed.off")
+    apply_report = os.path.join(folder, "apply.json")
+    stages.append(run("apply", [tools["ffd-benchmark-tool"], "apply-field", "--source", case["source"], "--field",
+                                field, "--output", deformed, "--report", apply_report],
+                      os.path.join(folder, "apply.log")))
+    if not stages[-1].ok():
+        return result_record(case, peer, "peer", stages, None, "failed", stages[-1].reason(), extra)
+    extra["apply"] = read_json(apply_report)
+    score_stage, scores = score(case, deformed, folder, tools, ["--field", field])
+    stages.append(score_stage)
+    if scores is None:
+        return result_record(case, peer, "peer", stages, None, "failed", score_stage.reason(), extra)
+    # The images are large: keep only the scores once a peer has been scored.
+    if not options.keep_images:
+        for name in os.listdir(folder):
+            if name.endswith((".mha", ".raw", ".mhd", ".nii")):
+                os.remove(os.path.join(folder, name))
+    return result_record(case, peer, "peer", stages, scores, "ok", None, extra)
+
+
+def run_start(case, tools):
+    """The unmatched start: the source itself scored as the deformed source."""
+    folder = os.path.join(case["folder"], "start")
+    os.makedirs(folder, exist_ok=True)
+    stage, scores = score(case, case["source"], folder, tools, [])
+    return result_record(case, "start", "start", [], scores, "ok" if scores else "failed",
+                         None if scores else stage.reason())
+
+
+# ------------------------------------------------------------------------------------------------
+# Tables and charts
+
+
+def spread(values):
+    values = [v for v in values if v is not None and not (isinstance(v, float) and math.isnan(v))]
+    if not values:
+        return None, None, 0
+    mean = sum(values) / len(values)
+    deviation = statistics.stdev(values) if len(values) > 1 else 0.0
+    return mean, deviation, len(values)
+
+
+def fmt(values, digits=2, show_spread=True):
+    mean, deviation, n = spread(values)
+    if mean is None:
+        return "–"
+    if show_spread and n > 1:
+        return "%.*f ± %.*f" % (digits, mean, digits, deviation)
+    return "%.*f" % (digits, mean)
+
+
+def summarize(records, mesh, regime, name):
+    rows = [r for r in records if r["mesh"] == mesh and r["regime"] == regime and r["name"] == name]
+    ok = [r for r in rows if r["status"] == "ok"]
+    summary = {"rows": rows, "ok": ok}
+    for key, getter in {
+        "true_mean": lambda r: r["scores"]["true_error"]["mean"],
+        "true_median": lambda r: r["scores"]["true_error"]["median"],
+        "true_p95": lambda r: r["scores"]["true_error"]["p95"],
+        "true_max": lambda r: r["scores"]["true_error"]["max"],
+        "mdh": lambda r: r["scores"]["mean_directed_hausdorff"],
+        "hausdorff": lambda r: r["scores"]["symmetric_hausdorff_region"],
+        "min_det": lambda r: r["scores"]["min_jacobian_determinant"],
+        "register": lambda r: r.get("register_seconds"),
+        "total": lambda r: r["seconds_total"],
+        "peak": lambda r: r["peak_mb"],
+    }.items():
+        summary[key] = [getter(r) for r in ok]
+    return summary
+
+
+def status_text(summary):
+    rows = summary["rows"]
+    bad = [r for r in rows if r["status"] != "ok"]
+    if not bad:
+        return ""
+    reasons = sorted(set(r["reason"] or r["status"] for r in bad))
+    prefix = "%d/%d: " % (len(bad), len(rows)) if summary["ok"] else ""
+    return prefix + "; ".join(reasons)
+
+
+def ratio_text(numerator, denominator):
+    a = spread(numerator)[0]
+    b = spread(denominator)[0]
+    if a is None or b is None or b <= 0:
+        return "–"
+    return "%.2f" % (a / b)
+
+
+def write_results(records, options, versions, results_dir, charts):
+    names = ["start"] + options.methods + options.peers
+    meshes = options.meshes
+    lines = []
+    add = lines.append
+    add("# FFDShapeMatching benchmark results")
+    add("")
+    add("Generated by `benchmark/run.sh` (benchmark/run_benchmark.py) on %s UTC; protocol and column meanings in "
+        "[README.md](README.md)." % datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M"))
+    add("")
+    add("Run: meshes %s; regimes %s; seeds %s; grid %d³ control points; voxel %g mm; region fraction %g; %d threads; "
+        "machine %s, %d cores.%s" % (", ".join(meshes), ", ".join(options.regimes), options.seed_list, options.grid,
+                                     options.voxel_size, options.fraction, options.threads, platform.machine(),
+                                     os.cpu_count() or 0, " **Smoke run.**" if options.smoke else ""))
+    if options.note:
+        add("")
+        add(options.note)
+    add("")
+    add("Versions: " + ", ".join("%s %s" % (k, v) for k, v in versions.items() if v))
+    add("")
+    add("Every figure is the mean ± standard deviation over the seeds that ran (n in the last column). "
+        "\"best peer\" = the peer configuration with the lowest mean true error on that mesh and regime; "
+        "ratios are this row / best peer (true error) and this row / best peer (registration time).")
+    for regime in options.regimes:
+        add("")
+        add("## Table 2 form — %s regime" % regime)
+        add("")
+        add("| mesh | method | true error mean (mm) | median | p95 | max | MDH (mm) | sym. Hausdorff (mm) | min det J "
+            "| register (s) | total (s) | peak RSS (MB) | err / best peer | time / best peer | n |")
+        add("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+        for mesh in meshes:
+            summaries = {name: summarize(records, mesh, regime, name) for name in names}
+            peers = [p for p in options.peers if summaries[p]["ok"]]
+            best = min(peers, key=lambda p: spread(summaries[p]["true_mean"])[0]) if peers else None
+            for name in names:
+                s = summaries[name]
+                if not s["rows"]:
+                    continue
+                label = name + (" (best peer)" if name == best else "")
+                if not s["ok"]:
+                    add("| %s | %s | %s |  |  |  |  |  |  |  |  |  |  |  | 0 |" % (mesh, label, status_text(s)))
+                    continue
+                note = status_text(s)
+                add("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %d%s |" % (
+                    mesh, label, fmt(s["true_mean"]), fmt(s["true_median"]), fmt(s["true_p95"]), fmt(s["true_max"]),
+                    fmt(s["mdh"]), fmt(s["hausdorff"]), fmt(s["min_det"]),
+                    fmt(s["register"], 1) if name != "start" else "", fmt(s["total"], 1) if name != "start" else "",
+                    fmt(s["peak"], 0, False) if name != "start" else "",
+                    ratio_text(s["true_mean"], summaries[best]["true_mean"]) if best else "–",
+                    ratio_text(s["register"], summaries[best]["register"]) if best and name != "start" else "",
+                    len(s["ok"]), (" (" + note + ")") if note else ""))
+    refinements = [m for m in options.methods if "+par" in m]
+    if refinements:
+        add("")
+        add("## Table 3 form — Par refinement of the voxel methods")
+        add("")
+        add("True error mean (mm) and total time (s) of each voxel method, of Par alone, and of the voxel method "
+            "refined by Par (templates = the true noise directions per control point, the paper's protocol).")
+        for regime in options.regimes:
+            add("")
+            add("**%s regime**" % regime)
+            add("")
+            add("| mesh | " + " | ".join("%s error | %s time" % (m, m) for m in ["go", "mrf", "par"] + refinements)
+                + " |")
+            add("|---|" + "---|---|" * (3 + len(refinements)))
+            for mesh in meshes:
+                cells = []
+                for m in ["go", "mrf", "par"] + refinements:
+                    s = summarize(records, mesh, regime, m)
+                    if s["ok"]:
+                        cells += [fmt(s["true_mean"]), fmt(s["total"], 1)]
+                    else:
+                        cells += [status_text(s) or "–", ""]
+                add("| %s | %s |" % (mesh, " | ".join(cells)))
+    failures = [r for r in records if r["status"] == "failed"]
+    add("")
+    add("## Failures")
+    add("")
+    if failures:
+        for r in failures:
+            add("- %s %s seed %d, %s: %s" % (r["mesh"], r["regime"], r["seed"], r["name"], r["reason"]))
+    else:
+        add("None: every configured method or peer that could run, ran and was scored.")
+    if charts:
+        add("")
+        add("## Charts: accuracy vs time")
+        add("")
+        add("Mean true error (mm) against total wall time (s), one point per method or peer (mean over seeds).")
+        for chart in charts:
+            add("")
+            add("![%s](%s)" % (os.path.basename(chart), os.path.relpath(chart, results_dir)))
+    add("")
+    with open(os.path.join(results_dir, "RESULTS.md"), "w") as out:
+        out.write("\n".join(lines))
+
+
+def write_charts(records, options, results_dir):
+    if shutil.which("gnuplot") is None:
+        log("gnuplot is missing: no charts")
+        return []
+    folder = os.path.join(results_dir, "charts")
+    os.makedirs(folder, exist_ok=True)
+    charts = []
+    for mesh in options.meshes:
+        data_path = os.path.join(folder, "%s.dat" % mesh)
+        blocks = []
+        for regime in options.regimes:
+            points = []
+            for name in options.methods + options.peers:
+                s = summarize(records, mesh, regime, name)
+                error = spread(s["true_mean"])[0]
+                seconds = spread(s["total"])[0]
+                if error is not None and seconds is not None:
+                    points.append("%s %.4f %.4f" % (name, max(seconds, 0.01), error))
+            start = spread(summarize(records, mesh, regime, "start")["true_mean"])[0]
+            blocks.append((regime, points, start))
+        if not any(points for _, points, _ in blocks):
+            continue
+        with open(data_path, "w") as out:
+            for regime, points, _ in blocks:
+                out.write("# %s\n%s\n\n\n" % (regime, "\n".join(points) if points else "none 1 0"))
+        png = os.path.join(folder, "%s.png" % mesh)
+        plots = []
+        for index, (regime, points, start) in enumerate(blocks):
+            if not points:
+                continue
+            plots.append("'%s' index %d using 2:3 with points pt %d ps 1.6 title '%s'" % (data_path, index,
+                                                                                          7 + 2 * index, regime))
+            plots.append("'%s' index %d using 2:3:1 with labels offset 0.8,0.6 font ',8' notitle" % (data_path, index))
+            if start is not None:
+                plots.append("%.4f with lines dt 2 title '%s: unmatched start'" % (start, regime))
+        script = "\n".join([
+            "set terminal png size 800,560",
+            "set output '%s'" % png,
+            "set title 'Accuracy vs time: %s'" % mesh,
+            "set xlabel 'total wall time (s), log scale'",
+            "set ylabel 'mean true vertex error (mm)'",
+            "set logscale x",
+            "set yrange [0:%.4f]" % (1.15 * max([float(p.split()[2]) for _, points, _ in blocks for p in points]
+                                                + [start for _, _, start in blocks if start is not None])),
+            "set offsets graph 0.15, graph 0.15, 0, 0",
+            "set grid",
+            "set key outside bottom center horizontal",
+            "plot " + ", ".join(plots),
+        ])
+        result = subprocess.run(["gnuplot"], input=script, text=True, capture_output=True)
+        if result.returncode == 0 and os.path.exists(png):
+            charts.append(png)
+        else:
+            log("gnuplot failed for %s: %s" % (mesh, result.stderr.strip()[:300]))
+    return charts
+
+
+# ------------------------------------------------------------------------------------------------
+# Smoke check
+
+
+def check_smoke(records, results_dir, charts):
+    problems = []
+    go = [r for r in records if r["name"] == "go"]
+    start = [r for r in records if r["name"] == "start"]
+    if not go or go[0]["status"] != "ok":
+        problems.append("go did not run: %s" % (go[0]["reason"] if go else "no record"))
+    elif not start or start[0]["status"] != "ok":
+        problems.append("the start was not scored")
+    else:
+        before = start[0]["scores"]["true_error"]["mean"]
+        after = go[0]["scores"]["true_error"]["mean"]
+        mdh_before = start[0]["scores"]["mean_directed_hausdorff"]
+        mdh_after = go[0]["scores"]["mean_directed_hausdorff"]
+        log("smoke: go true error %.3f -> %.3f mm, MDH %.3f -> %.3f mm" % (before, after, mdh_before, mdh_after))
+        if not (before > 0.5 and after < before and mdh_after < mdh_before):
+            problems.append("go did not improve the start (true error %.3f -> %.3f, MDH %.3f -> %.3f)" %
+                            (before, after, mdh_before, mdh_after))
+        if not go[0]["seconds_total"] > 0 or not go[0]["peak_mb"] > 0:
+            problems.append("go has no time or memory figure")
+    for r in records:
+        if r["name"] in ("mrf", "par", "go+par", "mrf+par"):
+            value = r["scores"]["true_error"]["mean"] if r["status"] == "ok" else None
+            if not (isinstance(value, (int, float)) and math.isfinite(value)):
+                problems.append("%s did not run or has no true error: %s" % (r["name"], r.get("reason", "")))
+            else:
+                log("smoke: %s true error %.3f mm" % (r["name"], value))
+        if r["name"] == "elastix" and r["status"] == "ok":
+            value = r["scores"]["true_error"]["mean"]
+            if not (isinstance(value, (int, float)) and math.isfinite(value)):
+                problems.append("elastix's true error is not a number")
+    text = open(os.path.join(results_dir, "RESULTS.md")).read()
+    if "| true error mean (mm) |" not in text or "| %s | go |" % SMOKE_MESH not in text:
+        problems.append("RESULTS.md lacks the go row")
+    for chart in charts:
+        with open(chart, "rb") as data:
+            if data.read(8) != b"\x89PNG\r\n\x1a\n":
+                problems.append("%s is not a PNG" % chart)
+    if shutil.which("gnuplot") and not charts:
+        problems.append("no chart was drawn")
+    if problems:
+        for problem in problems:
+            log("smoke check: " + problem)
+        return False
+    log("smoke check passed")
+    print("benchmark smoke check passed")
+    return True
+
+
+# ------------------------------------------------------------------------------------------------
+
+
+def parse_arguments():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--meshes", default=",".join(ALL_MESHES), help="comma-separated CGAL mesh names")
+    parser.add_argument("--regimes", default=",".join(ALL_REGIMES), help="paper, smooth")
+    parser.add_argument("--seeds", type=int, default=3, help="seeds per mesh and regime (default 3)")
+    parser.add_argument("--first-seed", type=int, default=1)
+    parser.add_argument("--methods", default=",".join(ALL_METHODS), help="ffd-match methods")
+    parser.add_argument("--peers", default=",".join(ALL_PEERS), help="elastix, plastimatch-mi, plastimatch-mse")
+    parser.add_argument("--grid", type=int, default=20, help="control points per axis (default 20)")
+    parser.add_argument("--voxel-size", type=float, default=1.0)
+    parser.add_argument("--fraction", type=float, default=0.6, help="region = this fraction of each axis")
+    parser.add_argument("--threads", type=int, default=2)
+    parser.add_argument("--smoke", action="store_true",
+                        help="one small generated mesh, grid 8, 2 mm voxels, 1 seed, smooth regime, every method + elastix")
+    parser.add_argument("--build-dir", default=os.environ.get("FFD_BUILD_DIR", os.path.join(ROOT, "build")))
+    parser.add_argument("--skip-install", action="store_true", help="do not install missing Debian packages")
+    parser.add_argument("--skip-build", action="store_true", help="use the programs already in --build-dir")
+    parser.add_argument("--ffd-match", help="path of ffd-match (default: BUILD/apps/ffd-match)")
+    parser.add_argument("--ffd-voxelize", help="path of ffd-voxelize (default: BUILD/apps/ffd-voxelize)")
+    parser.add_argument("--ffd-benchmark-tool", help="default: BUILD/benchmark/ffd-benchmark-tool")
+    parser.add_argument("--work-dir", default=None, help="cases and logs (default: BUILD/benchmark-work)")
+    parser.add_argument("--results-dir", default=HERE, help="RESULTS.md, results.json, charts/ (default benchmark/)")
+    parser.add_argument("--keep-images", action="store_true", help="keep the peers' images and fields")
+    parser.add_argument("--note", default="", help="a sentence added to RESULTS.md (e.g. why fewer seeds)")
+    parser.add_argument("--tables-only", metavar="RESULTS_JSON",
+                        help="only rewrite RESULTS.md, results.json and the charts from the results.json of earlier "
+                        "runs (comma-separated files are merged)")
+    options = parser.parse_args()
+    if options.smoke:
+        options.meshes = SMOKE_MESH
+        options.regimes = "smooth"
+        options.seeds = 1
+        options.methods = "go,mrf,par,go+par,mrf+par"
+        options.peers = "elastix" if shutil.which("elastix") else ""
+        options.grid = 8
+        options.voxel_size = 2.0
+        options.note = options.note or (
+            "Smoke run: one generated torus, grid 8, 2 mm voxels, 1 seed, smooth regime, every method and elastix "
+            "(when installed: %s)." % ("yes" if shutil.which("elastix") else "no"))
+    options.meshes = [m for m in options.meshes.split(",") if m]
+    options.regimes = [r for r in options.regimes.split(",") if r]
+    options.methods = [m for m in options.methods.split(",") if m]
+    options.peers = [p for p in options.peers.split(",") if p]
+    for value, known, what in ((options.regimes, ALL_REGIMES, "regime"), (options.methods, ALL_METHODS, "method"),
+                               (options.peers, ALL_PEERS, "peer"),
+                               (options.meshes, ALL_MESHES + [SMOKE_MESH], "mesh")):
+        for item in value:
+            if item not in known:
+                parser.error("unknown %s '%s' (known: %s)" % (what, item, ", ".join(known)))
+    if options.seeds < 1 or options.grid < 4 or not options.voxel_size > 0:
+        parser.error("--seeds >= 1, --grid >= 4 and --voxel-size > 0 are required")
+    options.seed_list = ", ".join(str(options.first_seed + i) for i in range(options.seeds))
+    return options
+
+
+def tables_only(options):
+    """RESULTS.md and charts from the results.json of earlier runs (comma-separated: records are merged, a later
+    file's record replacing an earlier one of the same mesh, regime, seed and method; the settings are the first
+    file's, with the union of the methods, peers and seeds)."""
+    records = {}
+    first = None
+    for path in options.tables_only.split(","):
+        data = read_json(path)
+        if data is None:
+            raise SystemExit("run_benchmark: cannot read %s" % path)
+        if first is None:
+            first = data
+            for key in ("meshes", "regimes", "methods", "peers", "grid", "voxel_size", "fraction", "threads",
+                        "smoke"):
+                setattr(options, key, data["options"][key])
+            options.note = options.note or data["options"].get("note", "")
+        else:
+            for key in ("meshes", "regimes", "methods", "peers"):
+                getattr(options, key).extend(v for v in data["options"][key] if v not in getattr(options, key))
+        for record in data["records"]:
+            records[(record["mesh"], record["regime"], record["seed"], record["name"])] = record
+    records = list(records.values())
+    options.seed_list = ", ".join(str(seed) for seed in sorted(set(r["seed"] for r in records)))
+    results_dir = os.path.abspath(options.results_dir)
+    os.makedirs(results_dir, exist_ok=True)
+    with open(os.path.join(results_dir, "results.json"), "w") as out:
+        json.dump({"options": {k: v for k, v in vars(options).items()}, "versions": first["versions"],
+                   "records": records}, out, indent=1)
+    charts = write_charts(records, options, results_dir)
+    write_results(records, options, first["versions"], results_dir, charts)
+    log("wrote %s and %d charts" % (os.path.join(results_dir, "RESULTS.md"), len(charts)))
+    return 0
+
+
+def main():
+    options = parse_arguments()
+    if options.tables_only:
+        return tables_only(options)
+    build_dir = os.path.abspath(options.build_dir)
+    if not options.skip_install:
+        install_packages()
+    if not options.skip_build:
+        build_project(build_dir, not options.skip_install)
+    tools = {
+        "ffd-match": options.ffd_match or os.path.join(build_dir, "apps", "ffd-match"),
+        "ffd-voxelize": options.ffd_voxelize or os.path.join(build_dir, "apps", "ffd-voxelize"),
+        "ffd-benchmark-tool": options.ffd_benchmark_tool or os.path.join(build_dir, "benchmark", "ffd-benchmark-tool"),
+    }
+    for name, path in tools.items():
+        if not os.access(path, os.X_OK):
+            raise SystemExit("run_benchmark: %s not found at %s (build it or pass --%s)" % (name, path, name))
+    work = os.path.abspath(options.work_dir or os.path.join(build_dir, "benchmark-work"))
+    results_dir = os.path.abspath(options.results_dir)
+    os.makedirs(work, exist_ok=True)
+    os.makedirs(results_dir, exist_ok=True)
+    versions = {
+        "elastix": tool_version(["elastix", "--version"], r"elastix version: (\S+)") if shutil.which("elastix") else None,
+        "plastimatch": tool_version(["plastimatch", "--version"], r"plastimatch version (\S+)")
+        if shutil.which("plastimatch") else None,
+        "elastix (Debian)": package_version("elastix"),
+        "plastimatch (Debian)": package_version("plastimatch"),
+        "ITK (Debian)": package_version("libinsighttoolkit5-dev"),
+        "FFDShapeMatching": subprocess.run(["git", "-C", ROOT, "describe", "--always", "--dirty"], capture_output=True,
+                                           text=True).stdout.strip() or None,
+    }
+    meshes = extract_meshes(options.meshes, os.path.join(work, "meshes"))
+    records = []
+    results_json = os.path.join(results_dir, "results.json")
+    for mesh in options.meshes:
+        for regime in options.regimes:
+            for index in range(options.seeds):
+                seed = options.first_seed + index
+                log("case %s %s seed %d" % (mesh, regime, seed))
+                try:
+                    case = make_case(mesh, meshes[mesh], regime, seed, work, tools, options)
+                except RuntimeError as error:
+                    log(str(error))
+                    placeholder = {"mesh": mesh, "regime": regime, "seed": seed}
+                    for name in ["start"] + options.methods + options.peers:
+                        records.append(result_record(placeholder, name, "case", [], None, "failed", str(error)))
+                    continue
+                records.append(run_start(case, tools))
+                for method in options.methods:
+                    record = run_method(case, method, tools, options)
+                    records.append(record)
+                    log("  %-16s %s" % (method, describe(record)))
+                if options.peers:
+                    images = peer_images(case, case["folder"], tools, options.voxel_size, options.threads,
+                                         options.smoke)
+                    for peer in options.peers:
+                        record = run_peer(case, peer, images, tools, options)
+                        records.append(record)
+                        log("  %-16s %s" % (peer, describe(record)))
+                    if not options.keep_images:
+                        shutil.rmtree(os.path.join(case["folder"], "images"), ignore_errors=True)
+                with open(results_json, "w") as out:
+                    json.dump({"options": {k: v for k, v in vars(options).items()}, "versions": versions,
+                               "records": records}, out, indent=1)
+                # Tables and charts after every case, so that an interrupted run still leaves its figures.
+                charts = write_charts(records, options, results_dir)
+                write_results(records, options, versions, results_dir, charts)
+    log("wrote %s, %s and %d charts" % (os.path.join(results_dir, "RESULTS.md"), results_json, len(charts)))
+    if options.smoke:
+        return 0 if check_smoke(records, results_dir, charts) else 1
+    return 0
+
+
+def describe(record):
+    if record["status"] != "ok":
+        return record["reason"] if record["status"] == "not run" else "failed: " + (record["reason"] or "")
+    scores = record["scores"]
+    return "true error %.3f mm (p95 %.3f), MDH %.3f mm, min det J %s, %.1f s, %.0f MB" % (
+        scores["true_error"]["mean"], scores["true_error"]["p95"], scores["mean_directed_hausdorff"],
+        "%.3f" % scores["min_jacobian_determinant"] if isinstance(scores.get("min_jacobian_determinant"), (int, float))
+        else "–", record["seconds_total"], record["peak_mb"])
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,396 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkBSplineMRFImageRegistrationMethod_h
+#define itkBSplineMRFImageRegistrationMethod_h
+
+#include "itkBSplineMRFImageRegistrationMethodEnums.h"
+#include "itkBSplineTransform.h"
+#include "itkDataObjectDecorator.h"
+#include "itkImage.h"
+#include "itkMRFLabelingSolver.h"
+#include "itkProcessObject.h"
+#include "itkTransform.h"
+#include <array>
+#include <vector>
+
+namespace itk
+{
+/** \class BSplineMRFImageRegistrationMethod
+ * \brief Registers two voxel images with a cubic B-spline free-form deformation by discrete Markov-random-field
+ * optimization (the "MRF" method of the FFDShapeMatching pipeline, after Glocker et al. 2008).
+ *
+ * Each control point of a cubic BSplineTransform takes one of a discrete set of displacements (labels) added to
+ * its current displacement u. The energy of a labeling d is
+ * \f[ E(d) = \sum_p U_p(d_p) + \lambda \sum_{(p,q)} \rho\left(\frac{u_p + d_p - u_q - d_q}{h}\right), \f]
+ * over the 6-neighbour pairs (p, q) of the control grid (h: the mean control spacing of the level).
+ * The unary cost of label d at control point p is the B-spline-weighted mean of the pointwise dissimilarity of
+ * the fixed image F and the moving image M warped by the current transform T shifted by d,
+ * \f$U_p(d) = \sum_x w_p(x)\, c(F(x), M(T(x) + d)) / \sum_x w_p(x)\f$ over the (masked) fixed voxels x. It is
+ * computed efficiently: one pass over the voxels per label evaluates c, then a separable projection (the grid is
+ * aligned with the fixed image) accumulates it onto all control points; labels are processed in parallel.
+ * The solution updates u <- u + d; the label range then shrinks by LabelShrinkFactor, NumberOfIterationsPerLevel
+ * times per level. An update is kept only if the registration energy (the zero-label energy, data plus
+ * regularization) does not increase and, with RejectFoldingUpdates, if the sampled minimum Jacobian
+ * determinant stays above FoldingThreshold: the energy of each level never increases (GetEnergyValues()).
+ *
+ * \par Solver
+ * Alpha-expansion on Boykov-Kolmogorov max-flow (MRFLabelingSolver, Debian's libmaxflow): it is a proven,
+ * fast move-making method for multi-label energies, each move is optimal over a very large neighbourhood of
+ * labelings (much stronger than ICM), and it handles any pairwise term; the expansion terms that are not
+ * submodular (the regularization depends on u as well as on the labels) are truncated and a move is only
+ * accepted when the true energy decreases. ICM can be chosen for comparison (SetSolver()).
+ *
+ * \par Multi-resolution
+ * NumberOfLevels levels; level l (from 0) smooths the images with a Gaussian of 0.5 s voxels and shrinks them by
+ * s = 2^(L-1-l), as the GO method does, and uses a control grid about as much coarser
+ * (GetMeshSizeAtLevel()), refined between levels with BSplineTransformParametersAdaptor.
+ *
+ * \par Labels
+ * LabelSet Sparse (default): zero and +-x, +-y, +-z at NumberOfLabelSteps steps (6K + 1 labels);
+ * SparseWithDiagonals adds the 20 diagonal directions of the cube (26K + 1); Dense is the cube
+ * (2K + 1)^3. The largest step at a level's first iteration is MaximumDisplacement (mm) if set (> 0), otherwise
+ * MaximumDisplacementFactor (default 0.4) times the control spacing, which also keeps each update from folding.
+ *
+ * \par Similarities
+ * MutualInformation (default; pointwise, from a Parzen-windowed joint histogram of NumberOfHistogramBins bins,
+ * estimated at each level's start), SumOfSquaredDifferences, SumOfAbsoluteDifferences,
+ * NormalizedCrossCorrelation (per control point, over its weighted support).
+ *
+ * Inputs: the fixed image (index 0; in shape matching the target's voxel image), the moving image (the source's)
+ * and an optional fixed-image mask (unsigned char, non-zero = used; e.g. a band around the target surface).
+ * Output: the BSplineTransform T, fixed space to moving space (ITK's convention), as a decorated
+ * Transform<double, 3, 3> (GetTransformOutput()), ready to connect into a mesh-transform filter.
+ * Progress is reported and an IterationEvent invoked after every iteration. The images must be 3-D.
+ *
+ * \par References
+ * B. Glocker, N. Komodakis, G. Tziritas, N. Navab and N. Paragios, "Dense image registration through MRFs and
+ * efficient linear programming", Medical Image Analysis 12(6):731-741, 2008, doi:10.1016/j.media.2008.03.006.
+ * Y. Boykov, O. Veksler and R. Zabih, "Fast approximate energy minimization via graph cuts", IEEE TPAMI
+ * 23(11):1222-1239, 2001, doi:10.1109/34.969114.
+ *
+ * \code
+ * auto registration = itk::BSplineMRFImageRegistrationMethod<ImageType>::New();
+ * registration->SetFixedImage(target);
+ * registration->SetMovingImage(source);
+ * registration->SetFixedImageMask(band);
+ * registration->SetSimilarity(itk::BSplineMRFImageRegistrationMethodEnums::Similarity::SumOfSquaredDifferences);
+ * registration->Update();
+ * const auto * transform = registration->GetTransform();
+ * \endcode
+ *
+ * \sa BSplineFFDImageRegistrationMethod, MRFLabelingSolver, BSplineTransform
+ * \ingroup FFDShapeMatching
+ */
+template <typename TFixedImage, typename TMovingImage = TFixedImage>
+class ITK_TEMPLATE_EXPORT BSplineMRFImageRegistrationMethod : public ProcessObject
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(BSplineMRFImageRegistrationMethod);
+
+  using Self = BSplineMRFImageRegistrationMethod;
+  using Superclass = ProcessObject;
+  using Pointer = SmartPointer<Self>;
+  using ConstPointer = SmartPointer<const Self>;
+
+  itkNewMacro(Self);
+  itkTypeMacro(BSplineMRFImageRegistrationMethod, ProcessObject);
+
+  static constexpr unsigned int ImageDimension = TFixedImage::ImageDimension;
+  static_assert(ImageDimension == 3 && TMovingImage::ImageDimension == 3, "The MRF registration is 3-D");
+
+  using FixedImageType = TFixedImage;
+  using MovingImageType = TMovingImage;
+  using MaskImageType = Image<unsigned char, ImageDimension>;
+  using TransformType = Transform<double, ImageDimension, ImageDimension>;
+  using BSplineTransformType = BSplineTransform<double, ImageDimension, 3>;
+  using DecoratedTransformType = DataObjectDecorator<TransformType>;
+  using SimilarityEnum = BSplineMRFImageRegistrationMethodEnums::Similarity;
+  using PairwiseFunctionEnum = BSplineMRFImageRegistrationMethodEnums::PairwiseFunction;
+  using LabelSetEnum = BSplineMRFImageRegistrationMethodEnums::LabelSet;
+  using SolverEnum = MRFLabelingSolverEnums::Algorithm;
+  using DisplacementType = Vector<double, ImageDimension>;
+  using InternalImageType = Image<float, ImageDimension>;
+
+  /** The fixed image (target). */
+  itkSetInputMacro(FixedImage, FixedImageType);
+  itkGetInputMacro(FixedImage, FixedImageType);
+
+  /** The moving image (source). */
+  itkSetInputMacro(MovingImage, MovingImageType);
+  itkGetInputMacro(MovingImage, MovingImageType);
+
+  /** Optional mask of the fixed image: only its non-zero voxels contribute to the unary costs. */
+  itkSetInputMacro(FixedImageMask, MaskImageType);
+  itkGetInputMacro(FixedImageMask, MaskImageType);
+
+  /** The estimated transform, fixed space to moving space. */
+  const DecoratedTransformType *
+  GetTransformOutput() const;
+
+  /** The estimated transform itself (null before Update()). */
+  const TransformType *
+  GetTransform() const;
+
+  /** Control points per axis of the final B-spline grid (ITK mesh size N - 3). At least 4. Default: 20. */
+  itkSetMacro(NumberOfControlPointsPerAxis, unsigned int);
+  itkGetConstMacro(NumberOfControlPointsPerAxis, unsigned int);
+
+  /** Resolution levels (image pyramid and control-grid refinement), 1 to 8. Default: 3. */
+  itkSetMacro(NumberOfLevels, unsigned int);
+  itkGetConstMacro(NumberOfLevels, unsigned int);
+
+  /** MRF iterations (label range shrinking after each) per level, at least 1. Default: 5. */
+  itkSetMacro(NumberOfIterationsPerLevel, unsigned int);
+  itkGetConstMacro(NumberOfIterationsPerLevel, unsigned int);
+
+  /** Shape of the label set. Default: Sparse. */
+  itkSetEnumMacro(LabelSet, LabelSetEnum);
+  itkGetEnumMacro(LabelSet, LabelSetEnum);
+
+  /** Steps K per direction of the label set, at least 1. Default: 3. */
+  itkSetMacro(NumberOfLabelSteps, unsigned int);
+  itkGetConstMacro(NumberOfLabelSteps, unsigned int);
+
+  /** Largest label displacement at a level's first iteration, as a fraction of the control spacing; in (0, 1].
+   * Default: 0.4. */
+  itkSetMacro(MaximumDisplacementFactor, double);
+  itkGetConstMacro(MaximumDisplacementFactor, double);
+
+  /** Largest label displacement (mm) at the first level's first iteration, halved at each further level;
+   * 0 uses MaximumDisplacementFactor. Default: 0. */
+  itkSetMacro(MaximumDisplacement, double);
+  itkGetConstMacro(MaximumDisplacement, double);
+
+  /** Factor applied to the label range after each iteration, in (0, 1]. Default: 0.67. */
+  itkSetMacro(LabelShrinkFactor, double);
+  itkGetConstMacro(LabelShrinkFactor, double);
+
+  /** Pointwise dissimilarity of the unary costs. Default: MutualInformation. */
+  itkSetEnumMacro(Similarity, SimilarityEnum);
+  itkGetEnumMacro(Similarity, SimilarityEnum);
+
+  /** Bins per image of the joint histogram of MutualInformation, at least 4. Default: 32. */
+  itkSetMacro(NumberOfHistogramBins, unsigned int);
+  itkGetConstMacro(NumberOfHistogramBins, unsigned int);
+
+  /** Weight lambda of the pairwise regularization, >= 0. Default: 0.5. */
+  itkSetMacro(RegularizationWeight, double);
+  itkGetConstMacro(RegularizationWeight, double);
+
+  /** Regularization function rho. Default: Quadratic. */
+  itkSetEnumMacro(PairwiseFunction, PairwiseFunctionEnum);
+  itkGetEnumMacro(PairwiseFunction, PairwiseFunctionEnum);
+
+  /** Truncation value tau of the Truncated pairwise function (control spacings), > 0. Default: 0.5. */
+  itkSetMacro(TruncationValue, double);
+  itkGetConstMacro(TruncationValue, double);
+
+  /** Reject an update whose sampled minimum Jacobian determinant is below FoldingThreshold. Default: On. */
+  itkSetMacro(RejectFoldingUpdates, bool);
+  itkGetConstMacro(RejectFoldingUpdates, bool);
+  itkBooleanMacro(RejectFoldingUpdates);
+
+  /** Smallest Jacobian determinant an accepted update may have. Default: 0.05. */
+  itkSetMacro(FoldingThreshold, double);
+  itkGetConstMacro(FoldingThreshold, double);
+
+  /** Alpha-expansion cycles (or ICM sweeps) per iteration, at least 1. Default: 2. */
+  itkSetMacro(NumberOfSolverCycles, unsigned int);
+  itkGetConstMacro(NumberOfSolverCycles, unsigned int);
+
+  /** Discrete solver. Default: AlphaExpansion (ICM for comparison; Exhaustive is refused). */
+  itkSetEnumMacro(Solver, SolverEnum);
+  itkGetEnumMacro(Solver, SolverEnum);
+
+  /** Registration energy after each iteration, over all levels, of the last Update(). */
+  const std::vector<double> &
+  GetEnergyValues() const
+  {
+    return m_EnergyValues;
+  }
+
+  /** Level of each entry of GetEnergyValues(). */
+  const std::vector<unsigned int> &
+  GetEnergyLevels() const
+  {
+    return m_EnergyLevels;
+  }
+
+  /** Energy of the MRF labeling found by the solver at each iteration (its own energy model). */
+  const std::vector<double> &
+  GetLabelingEnergyValues() const
+  {
+    return m_LabelingEnergyValues;
+  }
+
+  /** Updates rejected (energy increase or folding) by the last Update(). */
+  itkGetConstMacro(NumberOfRejectedUpdates, unsigned int);
+
+  /** Smallest Jacobian determinant of the result, sampled at 2 points per axis in each control cell. */
+  itkGetConstMacro(MinimumJacobianDeterminant, double);
+
+  /** Control-grid mesh size (control points minus 3) used at a level. */
+  unsigned int
+  GetMeshSizeAtLevel(unsigned int level) const;
+
+  /** The label displacements (mm) for a largest step \c maximumDisplacement; the first is zero. */
+  std::vector<DisplacementType>
+  MakeLabels(double maximumDisplacement) const;
+
+  /** Unary costs of \c labels (node-major, control point p * labels + l, control points in the transform's
+   * parameter order) for \c transform on the given fixed image (with an optional mask) and moving image, as the
+   * registration computes them. Exposed for tests and analysis. */
+  std::vector<double>
+  ComputeUnaryCosts(const InternalImageType *             fixed,
+                    const MaskImageType *                 mask,
+                    const InternalImageType *             moving,
+                    const BSplineTransformType *          transform,
+                    const std::vector<DisplacementType> & labels);
+
+  /** Pointwise dissimilarity of a fixed and a moving intensity, with the current histogram for
+   * MutualInformation (set by ComputeUnaryCosts()). Not used for NormalizedCrossCorrelation. */
+  double
+  PointwiseCost(double fixedValue, double movingValue) const;
+
+protected:
+  BSplineMRFImageRegistrationMethod();
+  ~BSplineMRFImageRegistrationMethod() override = default;
+
+  void
+  VerifyPreconditions() ITKv5_CONST override;
+
+  void
+  GenerateData() override;
+
+  using Superclass::MakeOutput;
+  DataObjectPointer MakeOutput(DataObjectPointerArraySizeType) override;
+
+  void
+  PrintSelf(std::ostream & os, Indent indent) const override;
+
+private:
+  using InternalImagePointer = typename InternalImageType::Pointer;
+
+  /** A used fixed voxel of a level: its intensity, grid position and base moving continuous index. */
+  struct Voxel
+  {
+    float    FixedValue;
+    uint32_t Index[3];
+    float    BaseMovingIndex[3];
+  };
+
+  /** Everything about a level's voxels and grid that does not change during the level. */
+  struct LevelData
+  {
+    std::vector<Voxel>                 Voxels;
+    std::array<std::vector<int>, 3>    WeightStart;
+    std::array<std::vector<double>, 3> Weights; // 4 per image index
+    std::array<unsigned int, 3>        ImageSize{};
+    std::array<unsigned int, 3>        GridSize{};
+    double                             MovingIndexPerMM[3][3]{};
+    const float *                      MovingBuffer{ nullptr };
+    std::array<unsigned int, 3>        MovingSize{};
+    std::vector<double>                SupportWeight; // sum of w_p over the used voxels, per control point
+    std::vector<double>                FixedMoments;  // sum of w_p f and w_p f^2 (NCC)
+    std::vector<uint8_t>               RowUsed;       // per (y, z) row of the image
+  };
+
+  void
+  PrepareLevel(const InternalImageType *    fixed,
+               const MaskImageType *        mask,
+               const InternalImageType *    moving,
+               const BSplineTransformType * transform,
+               LevelData &                  level) const;
+
+  void
+  ComputeMovingIndices(const LevelData &            level,
+                       const BSplineTransformType * transform,
+                       std::vector<float> &         indices) const;
+
+  void
+  BuildHistogramCosts(const LevelData & level, const std::vector<float> & indices);
+
+  std::vector<double>
+  ComputeUnaries(const LevelData &                     level,
+                 const std::vector<float> &            indices,
+                 const std::vector<DisplacementType> & labels) const;
+
+  /** Projects per-voxel values (VChannels of them, from valueFunction(voxel, values)) onto the control points with
+   * their B-spline weights, separably: along x into rows, along y into planes, along z into projected. */
+  template <unsigned int VChannels, typename TValueFunction>
+  void
+  Project(const LevelData &     level,
+          TValueFunction &&     valueFunction,
+          std::vector<double> & rows,
+          std::vector<double> & planes,
+          std::vector<double> & projected) const;
+
+  double
+  Pairwise(const DisplacementType & difference, double inverseSpacing) const;
+
+  double
+  RegularizationEnergy(const BSplineTransformType * transform) const;
+
+  double
+  MinimumJacobianDeterminantOf(const BSplineTransformType * transform) const;
+
+  template <typename TImage>
+  static InternalImagePointer
+  MakeLevelImage(const TImage * input, unsigned int factor);
+
+  void
+  RunLevel(unsigned int level, BSplineTransformType * transform, unsigned int & iterationCount);
+
+  unsigned int         m_NumberOfControlPointsPerAxis{ 20 };
+  unsigned int         m_NumberOfLevels{ 3 };
+  unsigned int         m_NumberOfIterationsPerLevel{ 5 };
+  LabelSetEnum         m_LabelSet{ LabelSetEnum::Sparse };
+  unsigned int         m_NumberOfLabelSteps{ 3 };
+  double               m_MaximumDisplacementFactor{ 0.4 };
+  double               m_MaximumDisplacement{ 0.0 };
+  double               m_LabelShrinkFactor{ 0.67 };
+  SimilarityEnum       m_Similarity{ SimilarityEnum::MutualInformation };
+  unsigned int         m_NumberOfHistogramBins{ 32 };
+  double               m_RegularizationWeight{ 0.5 };
+  PairwiseFunctionEnum m_PairwiseFunction{ PairwiseFunctionEnum::Quadratic };
+  double               m_TruncationValue{ 0.5 };
+  bool                 m_RejectFoldingUpdates{ true };
+  double               m_FoldingThreshold{ 0.05 };
+  unsigned int         m_NumberOfSolverCycles{ 2 };
+  SolverEnum           m_Solver{ SolverEnum::AlphaExpansion };
+
+  std::vector<double>       m_EnergyValues{};
+  std::vector<unsigned int> m_EnergyLevels{};
+  std::vector<double>       m_LabelingEnergyValues{};
+  unsigned int              m_NumberOfRejectedUpdates{ 0 };
+  double                    m_MinimumJacobianDeterminant{ 1.0 };
+
+  // Mutual information: the cost table over histogram bins and the intensity-to-bin maps.
+  std::vector<double> m_HistogramCosts{};
+  double              m_FixedBinScale{ 1.0 };
+  double              m_FixedBinOffset{ 0.0 };
+  double              m_MovingBinScale{ 1.0 };
+  double              m_MovingBinOffset{ 0.0 };
+};
+} // namespace itk
+
+#ifndef ITK_MANUAL_INSTANTIATION
+#  include "itkBSplineMRFImageRegistrationMethod.hxx"
+#endif
+
+#endif // itkBSplineMRFImageRegistrationMethod_h

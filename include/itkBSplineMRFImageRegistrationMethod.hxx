@@ -1,0 +1,1223 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkBSplineMRFImageRegistrationMethod_hxx
+#define itkBSplineMRFImageRegistrationMethod_hxx
+
+#include "itkBSplineMRFImageRegistrationMethod.h"
+#include "itkBSplineTransformInitializer.h"
+#include "itkBSplineTransformParametersAdaptor.h"
+#include "itkCastImageFilter.h"
+#include "itkDiscreteGaussianImageFilter.h"
+#include "itkImageRegionConstIteratorWithIndex.h"
+#include "itkMultiThreaderBase.h"
+#include "itkShrinkImageFilter.h"
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace itk
+{
+namespace detail
+{
+/** Cubic B-spline kernel. */
+inline double
+BSplineMRFCubic(double u)
+{
+  const double a = std::abs(u);
+  if (a < 1.0)
+  {
+    return (4.0 - 6.0 * a * a + 3.0 * a * a * a) / 6.0;
+  }
+  if (a < 2.0)
+  {
+    const double b = 2.0 - a;
+    return b * b * b / 6.0;
+  }
+  return 0.0;
+}
+
+/** Derivative of the cubic B-spline kernel. */
+inline double
+BSplineMRFCubicDerivative(double u)
+{
+  const double a = std::abs(u);
+  if (a < 1.0)
+  {
+    return -2.0 * u + 1.5 * u * a;
+  }
+  if (a < 2.0)
+  {
+    const double b = 2.0 - a;
+    return (u < 0.0 ? 0.5 : -0.5) * b * b;
+  }
+  return 0.0;
+}
+} // namespace detail
+
+template <typename TFixedImage, typename TMovingImage>
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::BSplineMRFImageRegistrationMethod()
+{
+  this->SetPrimaryInputName("FixedImage");
+  this->AddRequiredInputName("MovingImage", 1);
+  this->AddOptionalInputName("FixedImageMask", 2);
+  this->SetNumberOfRequiredOutputs(1);
+  this->SetNthOutput(0, this->MakeOutput(0));
+}
+
+template <typename TFixedImage, typename TMovingImage>
+auto
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::MakeOutput(DataObjectPointerArraySizeType)
+  -> DataObjectPointer
+{
+  return DecoratedTransformType::New().GetPointer();
+}
+
+template <typename TFixedImage, typename TMovingImage>
+auto
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::GetTransformOutput() const
+  -> const DecoratedTransformType *
+{
+  return static_cast<const DecoratedTransformType *>(this->ProcessObject::GetOutput(0));
+}
+
+template <typename TFixedImage, typename TMovingImage>
+auto
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::GetTransform() const -> const TransformType *
+{
+  return this->GetTransformOutput()->Get();
+}
+
+template <typename TFixedImage, typename TMovingImage>
+unsigned int
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::GetMeshSizeAtLevel(unsigned int level) const
+{
+  const unsigned int finalMeshSize = std::max(m_NumberOfControlPointsPerAxis, 4u) - 3;
+  const unsigned int levels = std::max(m_NumberOfLevels, 1u);
+  const unsigned int coarsening = levels - 1 - std::min(level, levels - 1);
+  const double       meshSize = std::round(finalMeshSize / std::pow(2.0, coarsening));
+  return std::max(1u, static_cast<unsigned int>(meshSize));
+}
+
+template <typename TFixedImage, typename TMovingImage>
+auto
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::MakeLabels(double maximumDisplacement) const
+  -> std::vector<DisplacementType>
+{
+  std::vector<DisplacementType> labels;
+  DisplacementType              zero;
+  zero.Fill(0.0);
+  labels.push_back(zero);
+  const int steps = static_cast<int>(m_NumberOfLabelSteps);
+  if (m_LabelSet == LabelSetEnum::Dense)
+  {
+    for (int z = -steps; z <= steps; ++z)
+    {
+      for (int y = -steps; y <= steps; ++y)
+      {
+        for (int x = -steps; x <= steps; ++x)
+        {
+          if (x == 0 && y == 0 && z == 0)
+          {
+            continue;
+          }
+          DisplacementType label;
+          label[0] = maximumDisplacement * x / steps;
+          label[1] = maximumDisplacement * y / steps;
+          label[2] = maximumDisplacement * z / steps;
+          labels.push_back(label);
+        }
+      }
+    }
+    return labels;
+  }
+  for (int step = 1; step <= steps; ++step)
+  {
+    const double length = maximumDisplacement * step / steps;
+    for (int z = -1; z <= 1; ++z)
+    {
+      for (int y = -1; y <= 1; ++y)
+      {
+        for (int x = -1; x <= 1; ++x)
+        {
+          const int nonZero = (x != 0) + (y != 0) + (z != 0);
+          if (nonZero == 0 || (nonZero > 1 && m_LabelSet != LabelSetEnum::SparseWithDiagonals))
+          {
+            continue;
+          }
+          const double     scale = length / std::sqrt(static_cast<double>(nonZero));
+          DisplacementType label;
+          label[0] = scale * x;
+          label[1] = scale * y;
+          label[2] = scale * z;
+          labels.push_back(label);
+        }
+      }
+    }
+  }
+  return labels;
+}
+
+template <typename TFixedImage, typename TMovingImage>
+void
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::VerifyPreconditions() ITKv5_CONST
+{
+  Superclass::VerifyPreconditions();
+  if (m_NumberOfControlPointsPerAxis < 4)
+  {
+    itkExceptionMacro(<< "NumberOfControlPointsPerAxis must be at least 4, is " << m_NumberOfControlPointsPerAxis);
+  }
+  if (m_NumberOfLevels < 1 || m_NumberOfLevels > 8)
+  {
+    itkExceptionMacro(<< "NumberOfLevels must be in [1, 8], is " << m_NumberOfLevels);
+  }
+  if (m_NumberOfIterationsPerLevel < 1)
+  {
+    itkExceptionMacro(<< "NumberOfIterationsPerLevel must be at least 1");
+  }
+  if (m_NumberOfLabelSteps < 1)
+  {
+    itkExceptionMacro(<< "NumberOfLabelSteps must be at least 1 (no label to try)");
+  }
+  if (!(m_MaximumDisplacementFactor > 0.0 && m_MaximumDisplacementFactor <= 1.0) || !(m_MaximumDisplacement >= 0.0) ||
+      !std::isfinite(m_MaximumDisplacement))
+  {
+    itkExceptionMacro(<< "MaximumDisplacementFactor must be in (0, 1] and MaximumDisplacement >= 0");
+  }
+  if (!(m_LabelShrinkFactor > 0.0 && m_LabelShrinkFactor <= 1.0))
+  {
+    itkExceptionMacro(<< "LabelShrinkFactor must be in (0, 1], is " << m_LabelShrinkFactor);
+  }
+  if (!(m_RegularizationWeight >= 0.0) || !std::isfinite(m_RegularizationWeight))
+  {
+    itkExceptionMacro(<< "RegularizationWeight must be finite and >= 0, is " << m_RegularizationWeight);
+  }
+  if (!(m_TruncationValue > 0.0))
+  {
+    itkExceptionMacro(<< "TruncationValue must be > 0, is " << m_TruncationValue);
+  }
+  if (m_NumberOfHistogramBins < 4)
+  {
+    itkExceptionMacro(<< "NumberOfHistogramBins must be at least 4, is " << m_NumberOfHistogramBins);
+  }
+  if (m_NumberOfSolverCycles < 1)
+  {
+    itkExceptionMacro(<< "NumberOfSolverCycles must be at least 1");
+  }
+  if (m_Solver == SolverEnum::Exhaustive)
+  {
+    itkExceptionMacro(<< "The exhaustive solver is for tiny test graphs only");
+  }
+  const auto * fixed = this->GetFixedImage();
+  const auto * moving = this->GetMovingImage();
+  if (fixed->GetLargestPossibleRegion().GetNumberOfPixels() == 0 ||
+      moving->GetLargestPossibleRegion().GetNumberOfPixels() == 0)
+  {
+    itkExceptionMacro(<< "The fixed and moving images must not be empty");
+  }
+  const auto * mask = this->GetFixedImageMask();
+  if (mask != nullptr && mask->GetLargestPossibleRegion().GetNumberOfPixels() == 0)
+  {
+    itkExceptionMacro(<< "The fixed-image mask is empty");
+  }
+  const unsigned int shrink = 1u << (m_NumberOfLevels - 1);
+  for (unsigned int d = 0; d < ImageDimension; ++d)
+  {
+    if (fixed->GetLargestPossibleRegion().GetSize()[d] < 2 * shrink ||
+        moving->GetLargestPossibleRegion().GetSize()[d] < 2 * shrink)
+    {
+      itkExceptionMacro(<< "The images are too small (" << fixed->GetLargestPossibleRegion().GetSize() << ", "
+                        << moving->GetLargestPossibleRegion().GetSize() << ") for " << m_NumberOfLevels
+                        << " resolution levels");
+    }
+  }
+}
+
+template <typename TFixedImage, typename TMovingImage>
+void
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::GenerateData()
+{
+  m_EnergyValues.clear();
+  m_EnergyLevels.clear();
+  m_LabelingEnergyValues.clear();
+  m_NumberOfRejectedUpdates = 0;
+  this->UpdateProgress(0.0f);
+
+  // The transform: cubic B-spline over the fixed image, coarsest grid first.
+  auto transform = BSplineTransformType::New();
+  using InitializerType = BSplineTransformInitializer<BSplineTransformType, FixedImageType>;
+  auto                                        initializer = InitializerType::New();
+  typename BSplineTransformType::MeshSizeType meshSize;
+  meshSize.Fill(this->GetMeshSizeAtLevel(0));
+  initializer->SetTransform(transform);
+  initializer->SetImage(this->GetFixedImage());
+  initializer->SetTransformDomainMeshSize(meshSize);
+  initializer->InitializeTransform();
+  transform->SetIdentity();
+
+  unsigned int iterationCount = 0;
+  for (unsigned int level = 0; level < m_NumberOfLevels; ++level)
+  {
+    if (level > 0 && this->GetMeshSizeAtLevel(level) != this->GetMeshSizeAtLevel(level - 1))
+    {
+      using AdaptorType = BSplineTransformParametersAdaptor<BSplineTransformType>;
+      auto adaptor = AdaptorType::New();
+      meshSize.Fill(this->GetMeshSizeAtLevel(level));
+      adaptor->SetTransform(transform);
+      adaptor->SetRequiredTransformDomainOrigin(transform->GetTransformDomainOrigin());
+      adaptor->SetRequiredTransformDomainPhysicalDimensions(transform->GetTransformDomainPhysicalDimensions());
+      adaptor->SetRequiredTransformDomainDirection(transform->GetTransformDomainDirection());
+      adaptor->SetRequiredTransformDomainMeshSize(meshSize);
+      adaptor->AdaptTransformParameters();
+    }
+    this->RunLevel(level, transform, iterationCount);
+  }
+  m_MinimumJacobianDeterminant = this->MinimumJacobianDeterminantOf(transform);
+  auto * output = static_cast<DecoratedTransformType *>(this->ProcessObject::GetOutput(0));
+  output->Set(transform);
+  this->UpdateProgress(1.0f);
+}
+
+template <typename TFixedImage, typename TMovingImage>
+template <typename TImage>
+auto
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::MakeLevelImage(const TImage * input, unsigned int factor)
+  -> InternalImagePointer
+{
+  if (factor == 1)
+  {
+    auto cast = CastImageFilter<TImage, InternalImageType>::New();
+    cast->SetInput(input);
+    cast->Update();
+    return cast->GetOutput();
+  }
+  auto smoother = DiscreteGaussianImageFilter<TImage, InternalImageType>::New();
+  smoother->SetInput(input);
+  smoother->SetUseImageSpacing(false);
+  smoother->SetVariance(0.25 * factor * factor);
+  smoother->SetMaximumKernelWidth(64);
+  auto shrinker = ShrinkImageFilter<InternalImageType, InternalImageType>::New();
+  shrinker->SetInput(smoother->GetOutput());
+  shrinker->SetShrinkFactors(factor);
+  shrinker->Update();
+  return shrinker->GetOutput();
+}
+
+template <typename TFixedImage, typename TMovingImage>
+void
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::PrepareLevel(const InternalImageType *    fixed,
+                                                                           const MaskImageType *        mask,
+                                                                           const InternalImageType *    moving,
+                                                                           const BSplineTransformType * transform,
+                                                                           LevelData &                  level) const
+{
+  const auto * coefficients = transform->GetCoefficientImages()[0].GetPointer();
+  const auto   fixedDirection = fixed->GetDirection();
+  const auto   gridDirection = coefficients->GetDirection();
+  for (unsigned int i = 0; i < 3; ++i)
+  {
+    for (unsigned int j = 0; j < 3; ++j)
+    {
+      if (std::abs(fixedDirection[i][j] - gridDirection[i][j]) > 1e-6)
+      {
+        itkExceptionMacro(<< "The control grid must be aligned with the fixed image");
+      }
+    }
+  }
+  const auto fixedRegion = fixed->GetBufferedRegion();
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    level.ImageSize[a] = static_cast<unsigned int>(fixedRegion.GetSize()[a]);
+    level.GridSize[a] = static_cast<unsigned int>(coefficients->GetLargestPossibleRegion().GetSize()[a]);
+    level.MovingSize[a] = static_cast<unsigned int>(moving->GetBufferedRegion().GetSize()[a]);
+  }
+  // Per-axis B-spline weights: the grid is aligned with the image, so grid index a depends on image index a only.
+  std::array<std::vector<uint8_t>, 3> valid;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    const unsigned int n = level.ImageSize[a];
+    level.WeightStart[a].assign(n, 0);
+    level.Weights[a].assign(4 * n, 0.0);
+    valid[a].assign(n, 0);
+    const double maxLimit = static_cast<double>(level.GridSize[a]) - 2.0;
+    for (unsigned int j = 0; j < n; ++j)
+    {
+      typename InternalImageType::IndexType index = fixedRegion.GetIndex();
+      index[a] += j;
+      typename InternalImageType::PointType point;
+      fixed->TransformIndexToPhysicalPoint(index, point);
+      ContinuousIndex<double, 3> gridIndex;
+      coefficients->TransformPhysicalPointToContinuousIndex(point, gridIndex);
+      double g = gridIndex[a];
+      if (g < 1.0 - 1e-9 || g > maxLimit + 1e-9)
+      {
+        continue;
+      }
+      g = std::min(std::max(g, 1.0), maxLimit);
+      int start = static_cast<int>(std::floor(g)) - 1;
+      start = std::min(start, static_cast<int>(level.GridSize[a]) - 4);
+      level.WeightStart[a][j] = start;
+      for (unsigned int k = 0; k < 4; ++k)
+      {
+        level.Weights[a][4 * j + k] = detail::BSplineMRFCubic(g - start - k);
+      }
+      valid[a][j] = 1;
+    }
+  }
+  // Moving geometry: continuous index = A (x - origin).
+  Matrix<double, 3, 3> indexToPoint;
+  for (unsigned int i = 0; i < 3; ++i)
+  {
+    for (unsigned int j = 0; j < 3; ++j)
+    {
+      indexToPoint[i][j] = moving->GetDirection()[i][j] * moving->GetSpacing()[j];
+    }
+  }
+  const Matrix<double, 3, 3> pointToIndex(indexToPoint.GetInverse());
+  for (unsigned int i = 0; i < 3; ++i)
+  {
+    for (unsigned int j = 0; j < 3; ++j)
+    {
+      level.MovingIndexPerMM[i][j] = pointToIndex[i][j];
+    }
+  }
+  level.MovingBuffer = moving->GetBufferPointer();
+  const auto movingStart = moving->GetBufferedRegion().GetIndex();
+
+  // The used voxels.
+  level.Voxels.clear();
+  level.RowUsed.assign(static_cast<size_t>(level.ImageSize[1]) * level.ImageSize[2], 0);
+  ImageRegionConstIteratorWithIndex<InternalImageType> it(fixed, fixedRegion);
+  for (; !it.IsAtEnd(); ++it)
+  {
+    const auto   index = it.GetIndex();
+    unsigned int local[3];
+    bool         inside = true;
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      local[a] = static_cast<unsigned int>(index[a] - fixedRegion.GetIndex()[a]);
+      inside = inside && valid[a][local[a]];
+    }
+    if (!inside)
+    {
+      continue;
+    }
+    typename InternalImageType::PointType point;
+    fixed->TransformIndexToPhysicalPoint(index, point);
+    if (mask != nullptr)
+    {
+      typename MaskImageType::IndexType maskIndex;
+      if (!mask->TransformPhysicalPointToIndex(point, maskIndex) || mask->GetPixel(maskIndex) == 0)
+      {
+        continue;
+      }
+    }
+    Voxel voxel;
+    voxel.FixedValue = it.Get();
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      voxel.Index[a] = local[a];
+      double sum = 0.0;
+      for (unsigned int b = 0; b < 3; ++b)
+      {
+        sum += pointToIndex[a][b] * (point[b] - moving->GetOrigin()[b]);
+      }
+      voxel.BaseMovingIndex[a] = static_cast<float>(sum - movingStart[a]);
+    }
+    level.Voxels.push_back(voxel);
+    level.RowUsed[local[1] + static_cast<size_t>(level.ImageSize[1]) * local[2]] = 1;
+  }
+  if (level.Voxels.empty())
+  {
+    itkExceptionMacro(<< "No fixed voxel lies in the mask and the B-spline domain");
+  }
+
+  // Summed support weights and, for NCC, the fixed moments.
+  std::vector<double> rows, planes;
+  this->template Project<1>(
+    level, [](const Voxel &, double * value) { value[0] = 1.0; }, rows, planes, level.SupportWeight);
+  level.FixedMoments.clear();
+  if (m_Similarity == SimilarityEnum::NormalizedCrossCorrelation)
+  {
+    this->template Project<2>(
+      level,
+      [](const Voxel & voxel, double * value) {
+        value[0] = voxel.FixedValue;
+        value[1] = static_cast<double>(voxel.FixedValue) * voxel.FixedValue;
+      },
+      rows,
+      planes,
+      level.FixedMoments);
+  }
+}
+
+template <typename TFixedImage, typename TMovingImage>
+template <unsigned int VChannels, typename TValueFunction>
+void
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::Project(const LevelData &     level,
+                                                                      TValueFunction &&     valueFunction,
+                                                                      std::vector<double> & rows,
+                                                                      std::vector<double> & planes,
+                                                                      std::vector<double> & projected) const
+{
+  const size_t nx = level.ImageSize[0];
+  const size_t ny = level.ImageSize[1];
+  const size_t nz = level.ImageSize[2];
+  const size_t gx = level.GridSize[0];
+  const size_t gy = level.GridSize[1];
+  const size_t gz = level.GridSize[2];
+  (void)nx;
+  constexpr unsigned int channels = VChannels;
+  // Along x: rows[(z * ny + y) * gx + cx][channel].
+  rows.assign(nz * ny * gx * channels, 0.0);
+  double value[VChannels];
+  for (const Voxel & voxel : level.Voxels)
+  {
+    valueFunction(voxel, value);
+    const size_t base = ((voxel.Index[2] * ny + voxel.Index[1]) * gx + level.WeightStart[0][voxel.Index[0]]) * channels;
+    const double * weights = &level.Weights[0][4 * voxel.Index[0]];
+    for (unsigned int k = 0; k < 4; ++k)
+    {
+      for (unsigned int c = 0; c < channels; ++c)
+      {
+        rows[base + k * channels + c] += weights[k] * value[c];
+      }
+    }
+  }
+  // Along y: planes[(z * gy + cy) * gx + cx][channel].
+  planes.assign(nz * gy * gx * channels, 0.0);
+  const size_t rowLength = gx * channels;
+  for (size_t z = 0; z < nz; ++z)
+  {
+    for (size_t y = 0; y < ny; ++y)
+    {
+      if (!level.RowUsed[y + ny * z])
+      {
+        continue;
+      }
+      const double * row = &rows[(z * ny + y) * rowLength];
+      const double * weights = &level.Weights[1][4 * y];
+      const size_t   start = level.WeightStart[1][y];
+      for (unsigned int k = 0; k < 4; ++k)
+      {
+        double *     plane = &planes[(z * gy + start + k) * rowLength];
+        const double w = weights[k];
+        for (size_t i = 0; i < rowLength; ++i)
+        {
+          plane[i] += w * row[i];
+        }
+      }
+    }
+  }
+  // Along z: projected[(cz * gy + cy) * gx + cx][channel].
+  projected.assign(gz * gy * gx * channels, 0.0);
+  const size_t planeLength = gy * rowLength;
+  for (size_t z = 0; z < nz; ++z)
+  {
+    const double * plane = &planes[z * planeLength];
+    const double * weights = &level.Weights[2][4 * z];
+    const size_t   start = level.WeightStart[2][z];
+    for (unsigned int k = 0; k < 4; ++k)
+    {
+      double *     out = &projected[(start + k) * planeLength];
+      const double w = weights[k];
+      if (w == 0.0)
+      {
+        continue;
+      }
+      for (size_t i = 0; i < planeLength; ++i)
+      {
+        out[i] += w * plane[i];
+      }
+    }
+  }
+}
+
+template <typename TFixedImage, typename TMovingImage>
+void
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::ComputeMovingIndices(
+  const LevelData &            level,
+  const BSplineTransformType * transform,
+  std::vector<float> &         indices) const
+{
+  const auto &   images = transform->GetCoefficientImages();
+  const double * coefficients[3] = { images[0]->GetBufferPointer(),
+                                     images[1]->GetBufferPointer(),
+                                     images[2]->GetBufferPointer() };
+  const size_t   gx = level.GridSize[0];
+  const size_t   gxy = gx * level.GridSize[1];
+  indices.resize(3 * level.Voxels.size());
+  const auto body = [&](SizeValueType v) {
+    const Voxel &  voxel = level.Voxels[v];
+    const double * wx = &level.Weights[0][4 * voxel.Index[0]];
+    const double * wy = &level.Weights[1][4 * voxel.Index[1]];
+    const double * wz = &level.Weights[2][4 * voxel.Index[2]];
+    const size_t   base = level.WeightStart[0][voxel.Index[0]] + gx * level.WeightStart[1][voxel.Index[1]] +
+                        gxy * level.WeightStart[2][voxel.Index[2]];
+    double displacement[3] = { 0.0, 0.0, 0.0 };
+    for (unsigned int kz = 0; kz < 4; ++kz)
+    {
+      for (unsigned int ky = 0; ky < 4; ++ky)
+      {
+        const double wzy = wz[kz] * wy[ky];
+        const size_t row = base + kz * gxy + ky * gx;
+        for (unsigned int d = 0; d < 3; ++d)
+        {
+          const double * c = coefficients[d] + row;
+          displacement[d] += wzy * (wx[0] * c[0] + wx[1] * c[1] + wx[2] * c[2] + wx[3] * c[3]);
+        }
+      }
+    }
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      double shift = 0.0;
+      for (unsigned int b = 0; b < 3; ++b)
+      {
+        shift += level.MovingIndexPerMM[a][b] * displacement[b];
+      }
+      indices[3 * v + a] = static_cast<float>(voxel.BaseMovingIndex[a] + shift);
+    }
+  };
+  auto threader = MultiThreaderBase::New();
+  threader->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
+  threader->ParallelizeArray(0, level.Voxels.size(), body, nullptr);
+}
+
+template <typename TFixedImage, typename TMovingImage>
+double
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::PointwiseCost(double fixedValue, double movingValue) const
+{
+  switch (m_Similarity)
+  {
+    case SimilarityEnum::SumOfSquaredDifferences:
+      return (fixedValue - movingValue) * (fixedValue - movingValue);
+    case SimilarityEnum::SumOfAbsoluteDifferences:
+      return std::abs(fixedValue - movingValue);
+    case SimilarityEnum::MutualInformation: {
+      const double   bins = m_NumberOfHistogramBins;
+      const double   fb = std::min(std::max((fixedValue - m_FixedBinOffset) * m_FixedBinScale, 0.0), bins - 1.0);
+      const double   mb = std::min(std::max((movingValue - m_MovingBinOffset) * m_MovingBinScale, 0.0), bins - 1.0);
+      const auto     fi = std::min(static_cast<unsigned int>(fb), m_NumberOfHistogramBins - 2);
+      const auto     mi = std::min(static_cast<unsigned int>(mb), m_NumberOfHistogramBins - 2);
+      const double   ft = fb - fi;
+      const double   mt = mb - mi;
+      const double * row0 = &m_HistogramCosts[fi * m_NumberOfHistogramBins + mi];
+      const double * row1 = row0 + m_NumberOfHistogramBins;
+      return (1.0 - ft) * ((1.0 - mt) * row0[0] + mt * row0[1]) + ft * ((1.0 - mt) * row1[0] + mt * row1[1]);
+    }
+    case SimilarityEnum::NormalizedCrossCorrelation:
+    default:
+      return 0.0;
+  }
+}
+
+namespace detail
+{
+/** Trilinear interpolation of a buffer at a continuous index, clamped to the buffer (constant extension). */
+inline double
+BSplineMRFInterpolate(const float * buffer, const std::array<unsigned int, 3> & size, const double * index)
+{
+  size_t base = 0;
+  size_t step[3];
+  double t[3];
+  size_t stride = 1;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    const double maxIndex = static_cast<double>(size[a] - 1);
+    const double c = std::min(std::max(index[a], 0.0), maxIndex);
+    auto         i = static_cast<size_t>(c);
+    if (i >= size[a] - 1)
+    {
+      i = size[a] - 1;
+      t[a] = 0.0;
+      step[a] = 0;
+    }
+    else
+    {
+      t[a] = c - static_cast<double>(i);
+      step[a] = stride;
+    }
+    base += i * stride;
+    stride *= size[a];
+  }
+  const float * p = buffer + base;
+  const double  c00 = p[0] + t[0] * (p[step[0]] - p[0]);
+  const double  c10 = p[step[1]] + t[0] * (p[step[1] + step[0]] - p[step[1]]);
+  const double  c01 = p[step[2]] + t[0] * (p[step[2] + step[0]] - p[step[2]]);
+  const double  c11 = p[step[2] + step[1]] + t[0] * (p[step[2] + step[1] + step[0]] - p[step[2] + step[1]]);
+  const double  c0 = c00 + t[1] * (c10 - c00);
+  const double  c1 = c01 + t[1] * (c11 - c01);
+  return c0 + t[2] * (c1 - c0);
+}
+} // namespace detail
+
+template <typename TFixedImage, typename TMovingImage>
+void
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::BuildHistogramCosts(const LevelData &          level,
+                                                                                  const std::vector<float> & indices)
+{
+  const unsigned int  bins = m_NumberOfHistogramBins;
+  std::vector<double> movingValues(level.Voxels.size());
+  double              fixedMin = std::numeric_limits<double>::max();
+  double              fixedMax = -fixedMin;
+  for (size_t v = 0; v < level.Voxels.size(); ++v)
+  {
+    const double index[3] = { indices[3 * v], indices[3 * v + 1], indices[3 * v + 2] };
+    movingValues[v] = detail::BSplineMRFInterpolate(level.MovingBuffer, level.MovingSize, index);
+    fixedMin = std::min(fixedMin, static_cast<double>(level.Voxels[v].FixedValue));
+    fixedMax = std::max(fixedMax, static_cast<double>(level.Voxels[v].FixedValue));
+  }
+  const size_t movingCount = static_cast<size_t>(level.MovingSize[0]) * level.MovingSize[1] * level.MovingSize[2];
+  const auto   movingRange = std::minmax_element(level.MovingBuffer, level.MovingBuffer + movingCount);
+  const double movingMin = *movingRange.first;
+  const double movingMax = *movingRange.second;
+  m_FixedBinOffset = fixedMin;
+  m_FixedBinScale = (bins - 1) / std::max(fixedMax - fixedMin, 1e-12);
+  m_MovingBinOffset = movingMin;
+  m_MovingBinScale = (bins - 1) / std::max(movingMax - movingMin, 1e-12);
+
+  // Joint histogram with linear splatting, then a Gaussian Parzen window of one bin.
+  std::vector<double> joint(bins * bins, 0.0);
+  for (size_t v = 0; v < level.Voxels.size(); ++v)
+  {
+    const double fb =
+      std::min(std::max((level.Voxels[v].FixedValue - m_FixedBinOffset) * m_FixedBinScale, 0.0), bins - 1.0);
+    const double mb = std::min(std::max((movingValues[v] - m_MovingBinOffset) * m_MovingBinScale, 0.0), bins - 1.0);
+    const auto   fi = std::min(static_cast<unsigned int>(fb), bins - 2);
+    const auto   mi = std::min(static_cast<unsigned int>(mb), bins - 2);
+    const double ft = fb - fi;
+    const double mt = mb - mi;
+    joint[fi * bins + mi] += (1.0 - ft) * (1.0 - mt);
+    joint[fi * bins + mi + 1] += (1.0 - ft) * mt;
+    joint[(fi + 1) * bins + mi] += ft * (1.0 - mt);
+    joint[(fi + 1) * bins + mi + 1] += ft * mt;
+  }
+  double kernel[7];
+  for (int k = -3; k <= 3; ++k)
+  {
+    kernel[k + 3] = std::exp(-0.5 * k * k);
+  }
+  std::vector<double> smoothed(bins * bins, 0.0);
+  for (unsigned int pass = 0; pass < 2; ++pass)
+  {
+    std::fill(smoothed.begin(), smoothed.end(), 0.0);
+    for (unsigned int i = 0; i < bins; ++i)
+    {
+      for (unsigned int j = 0; j < bins; ++j)
+      {
+        double sum = 0.0;
+        double weight = 0.0;
+        for (int k = -3; k <= 3; ++k)
+        {
+          const int n = static_cast<int>(pass == 0 ? i : j) + k;
+          if (n < 0 || n >= static_cast<int>(bins))
+          {
+            continue;
+          }
+          sum += kernel[k + 3] * (pass == 0 ? joint[n * bins + j] : joint[i * bins + n]);
+          weight += kernel[k + 3];
+        }
+        smoothed[i * bins + j] = sum / weight;
+      }
+    }
+    joint.swap(smoothed);
+  }
+  double total = 0.0;
+  for (const double h : joint)
+  {
+    total += h;
+  }
+  std::vector<double> fixedMarginal(bins, 0.0);
+  std::vector<double> movingMarginal(bins, 0.0);
+  for (unsigned int i = 0; i < bins; ++i)
+  {
+    for (unsigned int j = 0; j < bins; ++j)
+    {
+      joint[i * bins + j] /= total;
+      fixedMarginal[i] += joint[i * bins + j];
+      movingMarginal[j] += joint[i * bins + j];
+    }
+  }
+  m_HistogramCosts.assign(bins * bins, 0.0);
+  constexpr double epsilon = 1e-10;
+  for (unsigned int i = 0; i < bins; ++i)
+  {
+    for (unsigned int j = 0; j < bins; ++j)
+    {
+      m_HistogramCosts[i * bins + j] =
+        -std::log((joint[i * bins + j] + epsilon) / (fixedMarginal[i] * movingMarginal[j] + epsilon));
+    }
+  }
+}
+
+template <typename TFixedImage, typename TMovingImage>
+std::vector<double>
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::ComputeUnaries(
+  const LevelData &                     level,
+  const std::vector<float> &            indices,
+  const std::vector<DisplacementType> & labels) const
+{
+  const size_t        numberOfNodes = level.SupportWeight.size();
+  const size_t        numberOfLabels = labels.size();
+  std::vector<double> unary(numberOfNodes * numberOfLabels, 0.0);
+  double              largestWeight = 0.0;
+  for (const double w : level.SupportWeight)
+  {
+    largestWeight = std::max(largestWeight, w);
+  }
+  const double minimumWeight = 1e-6 * largestWeight;
+  const bool   ncc = m_Similarity == SimilarityEnum::NormalizedCrossCorrelation;
+
+  const auto body = [&](SizeValueType l) {
+    double shift[3];
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      shift[a] = 0.0;
+      for (unsigned int b = 0; b < 3; ++b)
+      {
+        shift[a] += level.MovingIndexPerMM[a][b] * labels[l][b];
+      }
+    }
+    const Voxel * first = level.Voxels.data();
+    const auto    movingAt = [&](const Voxel & voxel) {
+      const size_t v = &voxel - first;
+      const double index[3] = { indices[3 * v] + shift[0],
+                                indices[3 * v + 1] + shift[1],
+                                indices[3 * v + 2] + shift[2] };
+      return detail::BSplineMRFInterpolate(level.MovingBuffer, level.MovingSize, index);
+    };
+    std::vector<double> rows, planes, projected;
+    switch (m_Similarity)
+    {
+      case SimilarityEnum::SumOfSquaredDifferences:
+        this->template Project<1>(
+          level,
+          [&](const Voxel & voxel, double * out) {
+            const double difference = voxel.FixedValue - movingAt(voxel);
+            out[0] = difference * difference;
+          },
+          rows,
+          planes,
+          projected);
+        break;
+      case SimilarityEnum::SumOfAbsoluteDifferences:
+        this->template Project<1>(
+          level,
+          [&](const Voxel & voxel, double * out) { out[0] = std::abs(voxel.FixedValue - movingAt(voxel)); },
+          rows,
+          planes,
+          projected);
+        break;
+      case SimilarityEnum::MutualInformation:
+        this->template Project<1>(
+          level,
+          [&](const Voxel & voxel, double * out) { out[0] = this->PointwiseCost(voxel.FixedValue, movingAt(voxel)); },
+          rows,
+          planes,
+          projected);
+        break;
+      case SimilarityEnum::NormalizedCrossCorrelation:
+      default:
+        this->template Project<3>(
+          level,
+          [&](const Voxel & voxel, double * out) {
+            const double moving = movingAt(voxel);
+            out[0] = moving;
+            out[1] = moving * moving;
+            out[2] = moving * voxel.FixedValue;
+          },
+          rows,
+          planes,
+          projected);
+        break;
+    }
+    for (size_t p = 0; p < numberOfNodes; ++p)
+    {
+      const double w = level.SupportWeight[p];
+      double       cost = 0.0;
+      if (w > minimumWeight)
+      {
+        if (ncc)
+        {
+          const double meanFixed = level.FixedMoments[2 * p] / w;
+          const double meanMoving = projected[3 * p] / w;
+          const double varianceFixed = level.FixedMoments[2 * p + 1] / w - meanFixed * meanFixed;
+          const double varianceMoving = projected[3 * p + 1] / w - meanMoving * meanMoving;
+          const double covariance = projected[3 * p + 2] / w - meanFixed * meanMoving;
+          const double product = varianceFixed * varianceMoving;
+          cost = product > 1e-20 ? 1.0 - covariance / std::sqrt(product) : 1.0;
+        }
+        else
+        {
+          cost = projected[p] / w;
+        }
+      }
+      unary[p * numberOfLabels + l] = cost;
+    }
+  };
+  auto threader = MultiThreaderBase::New();
+  threader->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
+  threader->ParallelizeArray(0, numberOfLabels, body, nullptr);
+  return unary;
+}
+
+template <typename TFixedImage, typename TMovingImage>
+std::vector<double>
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::ComputeUnaryCosts(
+  const InternalImageType *             fixed,
+  const MaskImageType *                 mask,
+  const InternalImageType *             moving,
+  const BSplineTransformType *          transform,
+  const std::vector<DisplacementType> & labels)
+{
+  if (fixed == nullptr || moving == nullptr || transform == nullptr || labels.empty())
+  {
+    itkExceptionMacro(<< "ComputeUnaryCosts needs images, a transform and at least one label");
+  }
+  LevelData level;
+  this->PrepareLevel(fixed, mask, moving, transform, level);
+  std::vector<float> indices;
+  this->ComputeMovingIndices(level, transform, indices);
+  if (m_Similarity == SimilarityEnum::MutualInformation)
+  {
+    this->BuildHistogramCosts(level, indices);
+  }
+  return this->ComputeUnaries(level, indices, labels);
+}
+
+template <typename TFixedImage, typename TMovingImage>
+double
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::Pairwise(const DisplacementType & difference,
+                                                                       double                   inverseSpacing) const
+{
+  const double squared = difference.GetSquaredNorm() * inverseSpacing * inverseSpacing;
+  switch (m_PairwiseFunction)
+  {
+    case PairwiseFunctionEnum::Quadratic:
+      return m_RegularizationWeight * squared;
+    case PairwiseFunctionEnum::Absolute:
+      return m_RegularizationWeight * std::sqrt(squared);
+    case PairwiseFunctionEnum::Truncated:
+    default:
+      return m_RegularizationWeight * std::min(std::sqrt(squared), m_TruncationValue);
+  }
+}
+
+namespace detail
+{
+/** The 6-neighbour edges of a control grid, in parameter order. */
+inline std::vector<std::pair<SizeValueType, SizeValueType>>
+BSplineMRFGridEdges(const std::array<unsigned int, 3> & size)
+{
+  std::vector<std::pair<SizeValueType, SizeValueType>> edges;
+  const SizeValueType                                  strides[3] = { 1, size[0], SizeValueType{ size[0] } * size[1] };
+  for (unsigned int z = 0; z < size[2]; ++z)
+  {
+    for (unsigned int y = 0; y < size[1]; ++y)
+    {
+      for (unsigned int x = 0; x < size[0]; ++x)
+      {
+        const SizeValueType p = x + strides[1] * y + strides[2] * z;
+        const unsigned int  position[3] = { x, y, z };
+        for (unsigned int a = 0; a < 3; ++a)
+        {
+          if (position[a] + 1 < size[a])
+          {
+            edges.emplace_back(p, p + strides[a]);
+          }
+        }
+      }
+    }
+  }
+  return edges;
+}
+} // namespace detail
+
+template <typename TFixedImage, typename TMovingImage>
+double
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::RegularizationEnergy(
+  const BSplineTransformType * transform) const
+{
+  const auto &                      images = transform->GetCoefficientImages();
+  const auto                        size = images[0]->GetLargestPossibleRegion().GetSize();
+  const std::array<unsigned int, 3> gridSize{ static_cast<unsigned int>(size[0]),
+                                              static_cast<unsigned int>(size[1]),
+                                              static_cast<unsigned int>(size[2]) };
+  const auto &                      spacing = images[0]->GetSpacing();
+  const double                      inverseSpacing = 3.0 / (spacing[0] + spacing[1] + spacing[2]);
+  double                            energy = 0.0;
+  for (const auto & edge : detail::BSplineMRFGridEdges(gridSize))
+  {
+    DisplacementType difference;
+    for (unsigned int d = 0; d < 3; ++d)
+    {
+      const double * c = images[d]->GetBufferPointer();
+      difference[d] = c[edge.first] - c[edge.second];
+    }
+    energy += this->Pairwise(difference, inverseSpacing);
+  }
+  return energy;
+}
+
+template <typename TFixedImage, typename TMovingImage>
+double
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::MinimumJacobianDeterminantOf(
+  const BSplineTransformType * transform) const
+{
+  // Two samples per axis in each cell of the control grid, at local coordinates 1/4 and 3/4: there the 1-D
+  // weights and derivatives are the same in every cell.
+  const auto & images = transform->GetCoefficientImages();
+  const auto   size = images[0]->GetLargestPossibleRegion().GetSize();
+  const auto & spacing = images[0]->GetSpacing();
+  const auto   inverseDirection = images[0]->GetInverseDirection();
+  double       weights[2][4];
+  double       derivatives[2][4];
+  for (unsigned int s = 0; s < 2; ++s)
+  {
+    const double t = 0.25 + 0.5 * s;
+    for (unsigned int k = 0; k < 4; ++k)
+    {
+      weights[s][k] = detail::BSplineMRFCubic(1.0 + t - k);
+      derivatives[s][k] = detail::BSplineMRFCubicDerivative(1.0 + t - k);
+    }
+  }
+  const double *     coefficients[3] = { images[0]->GetBufferPointer(),
+                                         images[1]->GetBufferPointer(),
+                                         images[2]->GetBufferPointer() };
+  const size_t       gx = size[0];
+  const size_t       gxy = gx * size[1];
+  const unsigned int cells[3] = { static_cast<unsigned int>(size[0] - 3),
+                                  static_cast<unsigned int>(size[1] - 3),
+                                  static_cast<unsigned int>(size[2] - 3) };
+  double             minimum = std::numeric_limits<double>::max();
+  for (unsigned int cz = 0; cz < cells[2]; ++cz)
+  {
+    for (unsigned int cy = 0; cy < cells[1]; ++cy)
+    {
+      for (unsigned int cx = 0; cx < cells[0]; ++cx)
+      {
+        for (unsigned int sample = 0; sample < 8; ++sample)
+        {
+          const unsigned int s[3] = { sample & 1u, (sample >> 1) & 1u, (sample >> 2) & 1u };
+          // gradient[d][j] = d displacement_d / d grid index_j
+          double gradient[3][3] = {};
+          for (unsigned int kz = 0; kz < 4; ++kz)
+          {
+            for (unsigned int ky = 0; ky < 4; ++ky)
+            {
+              for (unsigned int kx = 0; kx < 4; ++kx)
+              {
+                const size_t offset = (cx + kx) + gx * (cy + ky) + gxy * (cz + kz);
+                const double w[3] = { derivatives[s[0]][kx] * weights[s[1]][ky] * weights[s[2]][kz],
+                                      weights[s[0]][kx] * derivatives[s[1]][ky] * weights[s[2]][kz],
+                                      weights[s[0]][kx] * weights[s[1]][ky] * derivatives[s[2]][kz] };
+                for (unsigned int d = 0; d < 3; ++d)
+                {
+                  const double c = coefficients[d][offset];
+                  gradient[d][0] += w[0] * c;
+                  gradient[d][1] += w[1] * c;
+                  gradient[d][2] += w[2] * c;
+                }
+              }
+            }
+          }
+          Matrix<double, 3, 3> jacobian;
+          for (unsigned int d = 0; d < 3; ++d)
+          {
+            for (unsigned int k = 0; k < 3; ++k)
+            {
+              double sum = (d == k) ? 1.0 : 0.0;
+              for (unsigned int j = 0; j < 3; ++j)
+              {
+                sum += gradient[d][j] * inverseDirection[j][k] / spacing[j];
+              }
+              jacobian[d][k] = sum;
+            }
+          }
+          minimum = std::min(minimum, vnl_determinant(jacobian.GetVnlMatrix()));
+        }
+      }
+    }
+  }
+  return minimum;
+}
+
+template <typename TFixedImage, typename TMovingImage>
+void
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::RunLevel(unsigned int           level,
+                                                                       BSplineTransformType * transform,
+                                                                       unsigned int &         iterationCount)
+{
+  const unsigned int   factor = 1u << (m_NumberOfLevels - 1 - level);
+  InternalImagePointer fixed = MakeLevelImage(this->GetFixedImage(), factor);
+  InternalImagePointer moving = MakeLevelImage(this->GetMovingImage(), factor);
+
+  LevelData data;
+  this->PrepareLevel(fixed, this->GetFixedImageMask(), moving, transform, data);
+  std::vector<float> indices;
+  std::vector<float> candidateIndices;
+  this->ComputeMovingIndices(data, transform, indices);
+  if (m_Similarity == SimilarityEnum::MutualInformation)
+  {
+    this->BuildHistogramCosts(data, indices);
+  }
+
+  const auto & spacing = transform->GetCoefficientImages()[0]->GetSpacing();
+  const double meanSpacing = (spacing[0] + spacing[1] + spacing[2]) / 3.0;
+  const double inverseSpacing = 1.0 / meanSpacing;
+  double       maximumDisplacement = m_MaximumDisplacement > 0.0 ? m_MaximumDisplacement / std::pow(2.0, level)
+                                                                 : m_MaximumDisplacementFactor * meanSpacing;
+
+  const SizeValueType numberOfNodes = data.SupportWeight.size();
+  const auto          edges = detail::BSplineMRFGridEdges(data.GridSize);
+  auto                solver = MRFLabelingSolver::New();
+  solver->SetAlgorithm(m_Solver);
+  solver->SetMaximumNumberOfCycles(m_NumberOfSolverCycles);
+  solver->SetNumberOfNodes(numberOfNodes);
+  for (const auto & edge : edges)
+  {
+    solver->AddEdge(edge.first, edge.second);
+  }
+
+  const std::vector<DisplacementType> zeroLabel(1, MakeLabels(0.0)[0]);
+  std::vector<DisplacementType>       edgeDifferences(edges.size());
+  const double totalIterations = static_cast<double>(m_NumberOfIterationsPerLevel) * m_NumberOfLevels;
+  for (unsigned int iteration = 0; iteration < m_NumberOfIterationsPerLevel; ++iteration)
+  {
+    if (this->GetAbortGenerateData())
+    {
+      ProcessAborted exception(__FILE__, __LINE__);
+      exception.SetDescription("BSplineMRFImageRegistrationMethod aborted");
+      throw exception;
+    }
+    const auto labels = this->MakeLabels(maximumDisplacement);
+    auto       unary = this->ComputeUnaries(data, indices, labels);
+    double     dataEnergy = 0.0;
+    for (SizeValueType p = 0; p < numberOfNodes; ++p)
+    {
+      dataEnergy += unary[p * labels.size()];
+    }
+    const double energy = dataEnergy + this->RegularizationEnergy(transform);
+
+    // Pairwise terms of this iteration: lambda rho((u_p + d_a - u_q - d_b) / h).
+    const auto & parameters = transform->GetParameters();
+    for (SizeValueType k = 0; k < edges.size(); ++k)
+    {
+      for (unsigned int d = 0; d < 3; ++d)
+      {
+        edgeDifferences[k][d] =
+          parameters[d * numberOfNodes + edges[k].first] - parameters[d * numberOfNodes + edges[k].second];
+      }
+    }
+    solver->SetNumberOfLabels(static_cast<MRFLabelingSolver::LabelType>(labels.size()));
+    solver->SetUnaryCosts(std::move(unary));
+    solver->SetPairwiseFunction([this, &edgeDifferences, &labels, inverseSpacing](
+                                  SizeValueType edge, MRFLabelingSolver::LabelType a, MRFLabelingSolver::LabelType b) {
+      return this->Pairwise(edgeDifferences[edge] + labels[a] - labels[b], inverseSpacing);
+    });
+    MRFLabelingSolver::LabelingType labeling(numberOfNodes, 0);
+    m_LabelingEnergyValues.push_back(solver->Solve(labeling));
+
+    // Candidate update u + d, kept if it neither folds nor raises the energy.
+    bool moved = false;
+    auto candidate = parameters;
+    for (SizeValueType p = 0; p < numberOfNodes; ++p)
+    {
+      if (labeling[p] != 0)
+      {
+        moved = true;
+        for (unsigned int d = 0; d < 3; ++d)
+        {
+          candidate[d * numberOfNodes + p] += labels[labeling[p]][d];
+        }
+      }
+    }
+    double acceptedEnergy = energy;
+    if (moved)
+    {
+      auto candidateTransform = BSplineTransformType::New();
+      candidateTransform->SetFixedParameters(transform->GetFixedParameters());
+      candidateTransform->SetParametersByValue(candidate);
+      bool accept =
+        !m_RejectFoldingUpdates || this->MinimumJacobianDeterminantOf(candidateTransform) >= m_FoldingThreshold;
+      if (accept)
+      {
+        this->ComputeMovingIndices(data, candidateTransform, candidateIndices);
+        const auto zeroUnary = this->ComputeUnaries(data, candidateIndices, zeroLabel);
+        double     candidateEnergy = this->RegularizationEnergy(candidateTransform);
+        for (const double value : zeroUnary)
+        {
+          candidateEnergy += value;
+        }
+        accept = candidateEnergy <= energy;
+        if (accept)
+        {
+          transform->SetParametersByValue(candidate);
+          indices.swap(candidateIndices);
+          acceptedEnergy = candidateEnergy;
+        }
+      }
+      if (!accept)
+      {
+        ++m_NumberOfRejectedUpdates;
+      }
+    }
+    m_EnergyValues.push_back(acceptedEnergy);
+    m_EnergyLevels.push_back(level);
+    maximumDisplacement *= m_LabelShrinkFactor;
+    ++iterationCount;
+    this->UpdateProgress(static_cast<float>(std::min(0.99, iterationCount / totalIterations)));
+    this->InvokeEvent(IterationEvent());
+  }
+}
+
+template <typename TFixedImage, typename TMovingImage>
+void
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::PrintSelf(std::ostream & os, Indent indent) const
+{
+  Superclass::PrintSelf(os, indent);
+  os << indent << "NumberOfControlPointsPerAxis: " << m_NumberOfControlPointsPerAxis << std::endl;
+  os << indent << "NumberOfLevels: " << m_NumberOfLevels << std::endl;
+  os << indent << "NumberOfIterationsPerLevel: " << m_NumberOfIterationsPerLevel << std::endl;
+  os << indent << "LabelSet: " << m_LabelSet << std::endl;
+  os << indent << "NumberOfLabelSteps: " << m_NumberOfLabelSteps << std::endl;
+  os << indent << "MaximumDisplacementFactor: " << m_MaximumDisplacementFactor << std::endl;
+  os << indent << "MaximumDisplacement: " << m_MaximumDisplacement << std::endl;
+  os << indent << "LabelShrinkFactor: " << m_LabelShrinkFactor << std::endl;
+  os << indent << "Similarity: " << m_Similarity << std::endl;
+  os << indent << "NumberOfHistogramBins: " << m_NumberOfHistogramBins << std::endl;
+  os << indent << "RegularizationWeight: " << m_RegularizationWeight << std::endl;
+  os << indent << "PairwiseFunction: " << m_PairwiseFunction << std::endl;
+  os << indent << "TruncationValue: " << m_TruncationValue << std::endl;
+  os << indent << "RejectFoldingUpdates: " << (m_RejectFoldingUpdates ? "On" : "Off") << std::endl;
+  os << indent << "FoldingThreshold: " << m_FoldingThreshold << std::endl;
+  os << indent << "NumberOfSolverCycles: " << m_NumberOfSolverCycles << std::endl;
+  os << indent << "Solver: " << m_Solver << std::endl;
+  os << indent << "EnergyValues: " << m_EnergyValues.size() << " iterations" << std::endl;
+  os << indent << "EnergyLevels: " << m_EnergyLevels.size() << std::endl;
+  os << indent << "LabelingEnergyValues: " << m_LabelingEnergyValues.size() << std::endl;
+  os << indent << "NumberOfRejectedUpdates: " << m_NumberOfRejectedUpdates << std::endl;
+  os << indent << "MinimumJacobianDeterminant: " << m_MinimumJacobianDeterminant << std::endl;
+  os << indent << "HistogramCosts: " << m_HistogramCosts.size() << " bins" << std::endl;
+  os << indent << "FixedBinScale: " << m_FixedBinScale << std::endl;
+  os << indent << "FixedBinOffset: " << m_FixedBinOffset << std::endl;
+  os << indent << "MovingBinScale: " << m_MovingBinScale << std::endl;
+  os << indent << "MovingBinOffset: " << m_MovingBinOffset << std::endl;
+}
+} // namespace itk
+
+#endif // itkBSplineMRFImageRegistrationMethod_hxx

@@ -1,0 +1,219 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkMRFLabelingSolver_h
+#define itkMRFLabelingSolver_h
+
+#include "FFDShapeMatchingExport.h"
+#include "itkNumericTraits.h"
+#include "itkObject.h"
+#include "itkObjectFactory.h"
+#include <cstdint>
+#include <functional>
+#include <ostream>
+#include <utility>
+#include <vector>
+
+namespace itk
+{
+/** \class MRFLabelingSolverEnums
+ * \brief Enumerations of MRFLabelingSolver.
+ *
+ * \c Algorithm selects the minimizer:
+ * - \c AlphaExpansion: alpha-expansion moves (Boykov, Veksler and Zabih 2001), each solved exactly by the
+ *   Boykov-Kolmogorov max-flow algorithm;
+ * - \c ICM: iterated conditional modes (greedy coordinate descent, node by node), for comparison;
+ * - \c Exhaustive: enumeration of every labeling (tiny graphs only, for tests).
+ *
+ * \ingroup FFDShapeMatching
+ */
+class FFDShapeMatching_EXPORT MRFLabelingSolverEnums
+{
+public:
+  enum class Algorithm : uint8_t
+  {
+    AlphaExpansion,
+    ICM,
+    Exhaustive
+  };
+};
+
+/** Prints the qualified enumerator name, e.g. "itk::MRFLabelingSolverEnums::Algorithm::ICM". */
+extern FFDShapeMatching_EXPORT std::ostream &
+                               operator<<(std::ostream & out, const MRFLabelingSolverEnums::Algorithm value);
+
+/** \class MRFLabelingSolver
+ * \brief Minimizes a pairwise discrete Markov-random-field energy (unary table, edge callback).
+ *
+ * The energy of a labeling \f$x\f$ of N nodes with L labels is
+ * \f[ E(x) = \sum_p U_p(x_p) + \sum_{(p,q) \in \mathcal{E}} V_{pq}(x_p, x_q), \f]
+ * with the unary table \f$U\f$ (SetUnaryCosts(), node-major: entry p * L + l) and, for each edge added with
+ * AddEdge(), a pairwise cost given by the callback of SetPairwiseFunction() (edge index, label of its first
+ * node, label of its second node). Pairwise costs need not be metric: the energies of B-spline registration
+ * are not (their cost depends on the current control displacements as well as on the labels).
+ *
+ * \par Alpha-expansion (default)
+ * Each move lets every node keep its label or switch to label alpha; the best such move is a binary problem,
+ * cut exactly by max-flow when it is submodular. Where an edge's expansion term is not submodular
+ * (\f$V(x_p,x_q) + V(\alpha,\alpha) > V(x_p,\alpha) + V(\alpha,x_q)\f$), its two mixed terms are raised until it
+ * is (truncation, Rother et al. 2005), and the move is accepted only if the true energy decreases: the energy
+ * never increases. Cycles over all labels repeat until none improves or MaximumNumberOfCycles is reached.
+ * Max-flow is Boykov and Kolmogorov's (Debian's libmaxflow; used by this class's source file only).
+ *
+ * \par ICM and exhaustive search
+ * ICM sweeps the nodes in order, giving each the label of least conditional energy, until a sweep changes
+ * nothing or MaximumNumberOfCycles sweeps are done. Exhaustive search enumerates all \f$L^N\f$ labelings
+ * (refused above 2^24 of them) and returns a global minimum.
+ *
+ * \par References
+ * Y. Boykov, O. Veksler and R. Zabih, "Fast approximate energy minimization via graph cuts", IEEE TPAMI
+ * 23(11):1222-1239, 2001, doi:10.1109/34.969114.
+ * Y. Boykov and V. Kolmogorov, "An experimental comparison of min-cut/max-flow algorithms for energy
+ * minimization in vision", IEEE TPAMI 26(9):1124-1137, 2004, doi:10.1109/TPAMI.2004.60.
+ * C. Rother, S. Kumar, V. Kolmogorov and A. Blake, "Digital tapestry", CVPR 2005, doi:10.1109/CVPR.2005.130.
+ *
+ * \code
+ * auto solver = itk::MRFLabelingSolver::New();
+ * solver->SetNumberOfNodes(n);
+ * solver->SetNumberOfLabels(l);
+ * solver->SetUnaryCosts(costs); // n * l values
+ * solver->AddEdge(0, 1);
+ * solver->SetPairwiseFunction([](itk::SizeValueType, unsigned int a, unsigned int b) { return a == b ? 0.0 : 1.0; });
+ * std::vector<unsigned int> labels(n, 0);
+ * solver->Solve(labels);
+ * \endcode
+ *
+ * \sa BSplineMRFImageRegistrationMethod
+ * \ingroup FFDShapeMatching
+ */
+class FFDShapeMatching_EXPORT MRFLabelingSolver : public Object
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(MRFLabelingSolver);
+
+  using Self = MRFLabelingSolver;
+  using Superclass = Object;
+  using Pointer = SmartPointer<Self>;
+  using ConstPointer = SmartPointer<const Self>;
+
+  itkNewMacro(Self);
+  itkTypeMacro(MRFLabelingSolver, Object);
+
+  using LabelType = unsigned int;
+  using LabelingType = std::vector<LabelType>;
+  using EdgeType = std::pair<SizeValueType, SizeValueType>;
+  using PairwiseFunctionType = std::function<double(SizeValueType edge, LabelType first, LabelType second)>;
+  using AlgorithmEnum = MRFLabelingSolverEnums::Algorithm;
+
+  /** Number of nodes. Setting it removes all edges and unary costs. Default: 0. */
+  void
+  SetNumberOfNodes(SizeValueType numberOfNodes);
+  itkGetConstMacro(NumberOfNodes, SizeValueType);
+
+  /** Number of labels, at least 1. Setting it removes the unary costs. Default: 1. */
+  void
+  SetNumberOfLabels(LabelType numberOfLabels);
+  itkGetConstMacro(NumberOfLabels, LabelType);
+
+  /** Unary costs, node-major (entry p * L + l); NumberOfNodes * NumberOfLabels values. */
+  void
+  SetUnaryCosts(std::vector<double> costs);
+  const std::vector<double> &
+  GetUnaryCosts() const
+  {
+    return m_UnaryCosts;
+  }
+
+  /** Adds the edge (first, second), two distinct nodes; returns its index. */
+  SizeValueType
+  AddEdge(SizeValueType first, SizeValueType second);
+
+  /** Removes all edges. */
+  void
+  ClearEdges();
+
+  const std::vector<EdgeType> &
+  GetEdges() const
+  {
+    return m_Edges;
+  }
+
+  /** Pairwise cost of an edge given the labels of its first and second node. Required with edges. */
+  void
+  SetPairwiseFunction(PairwiseFunctionType function);
+
+  /** The minimizer. Default: AlphaExpansion. */
+  itkSetEnumMacro(Algorithm, AlgorithmEnum);
+  itkGetEnumMacro(Algorithm, AlgorithmEnum);
+
+  /** Maximum alpha-expansion cycles or ICM sweeps. Default: 10. */
+  itkSetClampMacro(MaximumNumberOfCycles, unsigned int, 1, NumericTraits<unsigned int>::max());
+  itkGetConstMacro(MaximumNumberOfCycles, unsigned int);
+
+  /** Energy of a labeling. Throws for a labeling of the wrong size or with a label out of range. */
+  double
+  ComputeEnergy(const LabelingType & labeling) const;
+
+  /** Minimizes the energy with the chosen algorithm, starting from \c labeling (ignored by Exhaustive), which
+   * receives the result; returns its energy. The result's energy never exceeds the start's. Throws for
+   * inconsistent input. */
+  double
+  Solve(LabelingType & labeling);
+
+  /** Cycles (expansion) or sweeps (ICM) done by the last Solve(). */
+  itkGetConstMacro(NumberOfCyclesPerformed, unsigned int);
+
+  /** Alpha-expansion moves accepted by the last Solve(). */
+  itkGetConstMacro(NumberOfAcceptedMoves, SizeValueType);
+
+  /** Edge terms made submodular by truncation during the last Solve(). */
+  itkGetConstMacro(NumberOfTruncatedTerms, SizeValueType);
+
+protected:
+  MRFLabelingSolver() = default;
+  ~MRFLabelingSolver() override = default;
+  void
+  PrintSelf(std::ostream & os, Indent indent) const override;
+
+private:
+  void
+  CheckInput(const LabelingType & labeling, bool checkLabeling) const;
+
+  double
+  SolveAlphaExpansion(LabelingType & labeling);
+
+  double
+  SolveICM(LabelingType & labeling);
+
+  double
+  SolveExhaustive(LabelingType & labeling);
+
+  SizeValueType                           m_NumberOfNodes{ 0 };
+  LabelType                               m_NumberOfLabels{ 1 };
+  std::vector<double>                     m_UnaryCosts{};
+  std::vector<EdgeType>                   m_Edges{};
+  PairwiseFunctionType                    m_PairwiseFunction{};
+  AlgorithmEnum                           m_Algorithm{ AlgorithmEnum::AlphaExpansion };
+  unsigned int                            m_MaximumNumberOfCycles{ 10 };
+  unsigned int                            m_NumberOfCyclesPerformed{ 0 };
+  SizeValueType                           m_NumberOfAcceptedMoves{ 0 };
+  SizeValueType                           m_NumberOfTruncatedTerms{ 0 };
+  std::vector<std::vector<SizeValueType>> m_NodeEdges{};
+};
+} // namespace itk
+
+#endif // itkMRFLabelingSolver_h
