@@ -20,7 +20,6 @@
 #include "FFDMatchMethods.h"
 #include "FFDProgramSupport.h"
 #include "itkBSplineFFDImageRegistrationMethod.h"
-#include "itkCommand.h"
 
 #include <iomanip>
 #include <iostream>
@@ -39,8 +38,7 @@ RegisterGO(const RegistrationInputs & inputs, const Options & options)
   using RegistrationType = itk::BSplineFFDImageRegistrationMethod<ImageType>;
   using MetricEnum = itk::FFDShapeMatchingEnums::ImageMetric;
 
-  const auto start = ClockType::now();
-  auto       registration = RegistrationType::New();
+  auto registration = RegistrationType::New();
   registration->SetFixedImage(inputs.fixed);
   registration->SetMovingImage(inputs.moving);
   registration->SetFixedImageMask(inputs.mask);
@@ -56,25 +54,12 @@ RegisterGO(const RegistrationInputs & inputs, const Options & options)
   registration->SetFoldingPenaltyWeight(options.foldingWeight);
   registration->SetMaximumRunTime(options.timeLimit);
 
-  struct ProgressState
-  {
-    const RegistrationType * registration;
-    ClockType::time_point    start;
-  } state{ registration.GetPointer(), start };
-  auto progress = itk::CStyleCommand::New();
-  progress->SetClientData(&state);
-  progress->SetCallback([](itk::Object *, const itk::EventObject &, void * data) {
-    const auto *      s = static_cast<const ProgressState *>(data);
-    const auto &      values = s->registration->GetMetricValues();
-    const std::size_t n = values.size();
-    if (n == 1 || n % 10 == 0)
-    {
-      std::cerr << "ffd-match: register: iteration " << n << " metric " << std::setprecision(6) << std::defaultfloat
-                << values.back() << " (" << std::fixed << std::setprecision(1) << SecondsSince(s->start) << " s)"
-                << std::endl;
-    }
-  });
-  registration->AddObserver(itk::IterationEvent(), progress);
+  PrintRegistrationProgress(
+    registration.GetPointer(),
+    [r = registration.GetPointer()]() -> const std::vector<double> & { return r->GetMetricValues(); },
+    "iteration",
+    "metric",
+    10);
   std::cerr << "ffd-match: register (go): grid " << options.grid << ", " << options.levels << " levels, "
             << options.iterations << " iterations per level, sampling " << std::defaultfloat << options.sampling
             << ", metric " << GOMetricName(options) << std::endl;

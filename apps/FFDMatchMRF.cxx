@@ -20,7 +20,6 @@
 #include "FFDMatchMethods.h"
 #include "FFDProgramSupport.h"
 #include "itkBSplineMRFImageRegistrationMethod.h"
-#include "itkCommand.h"
 
 #include <iomanip>
 #include <iostream>
@@ -34,8 +33,7 @@ RegisterMRF(const RegistrationInputs & inputs, const Options & options)
   using RegistrationType = itk::BSplineMRFImageRegistrationMethod<ImageType>;
   using SimilarityEnum = RegistrationType::SimilarityEnum;
 
-  const auto start = ClockType::now();
-  auto       registration = RegistrationType::New();
+  auto registration = RegistrationType::New();
   registration->SetFixedImage(inputs.fixed);
   registration->SetMovingImage(inputs.moving);
   registration->SetFixedImageMask(inputs.mask);
@@ -55,24 +53,12 @@ RegisterMRF(const RegistrationInputs & inputs, const Options & options)
   registration->SetRejectFoldingUpdates(true);
   registration->SetNumberOfSolverCycles(1);
 
-  struct ProgressState
-  {
-    const RegistrationType * registration;
-    ClockType::time_point    start;
-  } state{ registration.GetPointer(), start };
-  auto progress = itk::CStyleCommand::New();
-  progress->SetClientData(&state);
-  progress->SetCallback([](itk::Object *, const itk::EventObject &, void * data) {
-    const auto * s = static_cast<const ProgressState *>(data);
-    const auto & energies = s->registration->GetEnergyValues();
-    if (!energies.empty())
-    {
-      std::cerr << "ffd-match: register: iteration " << energies.size() << " energy " << std::setprecision(6)
-                << std::defaultfloat << energies.back() << " (" << std::fixed << std::setprecision(1)
-                << SecondsSince(s->start) << " s)" << std::endl;
-    }
-  });
-  registration->AddObserver(itk::IterationEvent(), progress);
+  PrintRegistrationProgress(
+    registration.GetPointer(),
+    [r = registration.GetPointer()]() -> const std::vector<double> & { return r->GetEnergyValues(); },
+    "iteration",
+    "energy",
+    1);
   std::cerr << "ffd-match: register (mrf): grid " << options.grid << ", " << registration->GetNumberOfLevels()
             << " levels, " << registration->GetNumberOfIterationsPerLevel() << " iterations per level, similarity "
             << (options.voxelization == "sdf" ? "SSD" : "pointwise MI") << ", lambda " << options.mrfWeight

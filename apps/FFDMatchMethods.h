@@ -23,11 +23,15 @@
 // Every method estimates T : target space -> source space (fixed -> moving) and hands it on as a
 // decorated transform, ready for the mesh-transform filter.
 
+#include "FFDProgramSupport.h"
 #include "itkDataObjectDecorator.h"
+#include "itkEventObject.h"
 #include "itkImage.h"
 #include "itkMesh.h"
 #include "itkTransform.h"
 
+#include <iomanip>
+#include <iostream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -106,6 +110,29 @@ inline bool
 MethodAvailable(const std::string & method)
 {
   return method == "go" || method == "mrf" || method == "par" || method == "go+par" || method == "mrf+par";
+}
+
+/** Prints "ffd-match: register: <step> N <quantity> V (T s)" on stderr at the first IterationEvent of
+ * \c registration and at every \c every-th, with the values that \c values() returns at that moment. */
+template <typename TRegistration, typename TValues>
+void
+PrintRegistrationProgress(TRegistration *     registration,
+                          TValues             values,
+                          const std::string & step,
+                          const std::string & quantity,
+                          std::size_t         every)
+{
+  const auto start = ClockType::now();
+  registration->AddObserver(itk::IterationEvent(), [=](const itk::EventObject &) {
+    const auto &      list = values();
+    const std::size_t n = list.size();
+    if (n == 1 || (n > 0 && n % every == 0))
+    {
+      std::cerr << "ffd-match: register: " << step << ' ' << n << ' ' << quantity << ' ' << std::setprecision(6)
+                << std::defaultfloat << list.back() << " (" << std::fixed << std::setprecision(1) << SecondsSince(start)
+                << " s)" << std::endl;
+    }
+  });
 }
 
 /** Gradient-based global optimization of a B-spline FFD on the voxel images (method go). */

@@ -20,7 +20,6 @@
 
 #include "FFDMatchMethods.h"
 #include "FFDProgramSupport.h"
-#include "itkCommand.h"
 #include "itkCompositeTransform.h"
 #include "itkParametricTemplateRegistrationMethod.h"
 #include "itkParametricTemplateTransform.h"
@@ -107,8 +106,7 @@ RegisterPar(const RegistrationInputs & inputs, const Options & options, const De
   using RegistrationType = itk::ParametricTemplateRegistrationMethod<MeshType, MeshType, ImageType>;
   const ParametricTransformType::Pointer templates = ReadTemplates(options);
 
-  const auto start = ClockType::now();
-  auto       registration = RegistrationType::New();
+  auto registration = RegistrationType::New();
   registration->SetFixedMesh(inputs.target);
   registration->SetMovingMesh(inputs.source);
   registration->SetTemplateTransform(templates);
@@ -123,25 +121,12 @@ RegisterPar(const RegistrationInputs & inputs, const Options & options, const De
   }
   registration->SetRandomSeed(options.seed);
 
-  struct ProgressState
-  {
-    const RegistrationType * registration;
-    ClockType::time_point    start;
-  } state{ registration.GetPointer(), start };
-  auto progress = itk::CStyleCommand::New();
-  progress->SetClientData(&state);
-  progress->SetCallback([](itk::Object *, const itk::EventObject &, void * data) {
-    const auto *      s = static_cast<const ProgressState *>(data);
-    const auto &      values = s->registration->GetMetricValues();
-    const std::size_t n = values.size();
-    if (n == 1 || n % 20 == 0)
-    {
-      std::cerr << "ffd-match: register: evaluation " << n << " metric " << std::setprecision(6) << std::defaultfloat
-                << values.back() << " (" << std::fixed << std::setprecision(1) << SecondsSince(s->start) << " s)"
-                << std::endl;
-    }
-  });
-  registration->AddObserver(itk::IterationEvent(), progress);
+  PrintRegistrationProgress(
+    registration.GetPointer(),
+    [r = registration.GetPointer()]() -> const std::vector<double> & { return r->GetMetricValues(); },
+    "evaluation",
+    "metric",
+    20);
   std::cerr << "ffd-match: register (par" << (base != nullptr ? ", refining the voxel result" : "")
             << "): " << templates->GetNumberOfParameters() << " template weights from " << options.templates
             << std::endl;

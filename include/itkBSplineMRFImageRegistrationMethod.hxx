@@ -22,6 +22,7 @@
 #include "itkBSplineTransformInitializer.h"
 #include "itkBSplineTransformParametersAdaptor.h"
 #include "itkCastImageFilter.h"
+#include "itkCubicBSplineKernel.h"
 #include "itkDiscreteGaussianImageFilter.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
 #include "itkMultiThreaderBase.h"
@@ -32,43 +33,6 @@
 
 namespace itk
 {
-namespace detail
-{
-/** Cubic B-spline kernel. */
-inline double
-BSplineMRFCubic(double u)
-{
-  const double a = std::abs(u);
-  if (a < 1.0)
-  {
-    return (4.0 - 6.0 * a * a + 3.0 * a * a * a) / 6.0;
-  }
-  if (a < 2.0)
-  {
-    const double b = 2.0 - a;
-    return b * b * b / 6.0;
-  }
-  return 0.0;
-}
-
-/** Derivative of the cubic B-spline kernel. */
-inline double
-BSplineMRFCubicDerivative(double u)
-{
-  const double a = std::abs(u);
-  if (a < 1.0)
-  {
-    return -2.0 * u + 1.5 * u * a;
-  }
-  if (a < 2.0)
-  {
-    const double b = 2.0 - a;
-    return (u < 0.0 ? 0.5 : -0.5) * b * b;
-  }
-  return 0.0;
-}
-} // namespace detail
-
 template <typename TFixedImage, typename TMovingImage>
 BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::BSplineMRFImageRegistrationMethod()
 {
@@ -373,7 +337,7 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::PrepareLevel(const
       level.WeightStart[a][j] = start;
       for (unsigned int k = 0; k < 4; ++k)
       {
-        level.Weights[a][4 * j + k] = detail::BSplineMRFCubic(g - start - k);
+        level.Weights[a][4 * j + k] = detail::CubicBSpline(g - start - k);
       }
       valid[a][j] = 1;
     }
@@ -991,8 +955,8 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::MinimumJacobianDet
     const double t = 0.25 + 0.5 * s;
     for (unsigned int k = 0; k < 4; ++k)
     {
-      weights[s][k] = detail::BSplineMRFCubic(1.0 + t - k);
-      derivatives[s][k] = detail::BSplineMRFCubicDerivative(1.0 + t - k);
+      weights[s][k] = detail::CubicBSpline(1.0 + t - k);
+      derivatives[s][k] = detail::CubicBSplineDerivative(1.0 + t - k);
     }
   }
   const double *     coefficients[3] = { images[0]->GetBufferPointer(),

@@ -20,6 +20,7 @@
 
 #include "itkBSplineSparseImageToImageMetricv4.h"
 #include "itkCompositeTransform.h"
+#include "itkCubicBSplineKernel.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
 #include "itkMath.h"
 
@@ -30,43 +31,6 @@
 
 namespace itk
 {
-namespace detail
-{
-/** Cubic B-spline kernel. */
-inline double
-BSplineSparseMetricCubic(double u)
-{
-  const double a = std::abs(u);
-  if (a < 1.0)
-  {
-    return (4.0 - 6.0 * a * a + 3.0 * a * a * a) / 6.0;
-  }
-  if (a < 2.0)
-  {
-    const double b = 2.0 - a;
-    return b * b * b / 6.0;
-  }
-  return 0.0;
-}
-
-/** Derivative of the cubic B-spline kernel. */
-inline double
-BSplineSparseMetricCubicDerivative(double u)
-{
-  const double a = std::abs(u);
-  if (a < 1.0)
-  {
-    return -2.0 * u + 1.5 * u * a;
-  }
-  if (a < 2.0)
-  {
-    const double b = 2.0 - a;
-    return (u < 0.0 ? 0.5 : -0.5) * b * b;
-  }
-  return 0.0;
-}
-} // namespace detail
-
 template <typename TFixedImage, typename TMovingImage>
 BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::BSplineSparseImageToImageMetricv4()
 {
@@ -977,7 +941,7 @@ BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::ComputeMattes(Meas
       double *              row = result.JointHistogram.data() + fixedIndex * bins + movingIndex;
       for (unsigned int k = 0; k < 4; ++k, argument += 1.0)
       {
-        row[k] += detail::BSplineSparseMetricCubic(argument);
+        row[k] += detail::CubicBSpline(argument);
       }
       result.FixedMarginal[fixedIndex] += 1.0;
       ++result.NumberOfValidPoints;
@@ -1084,7 +1048,7 @@ BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::ComputeMattes(Meas
       double                factor = 0.0;
       for (unsigned int k = 0; k < 4; ++k, argument += 1.0)
       {
-        factor += detail::BSplineSparseMetricCubicDerivative(argument) * ratios[k];
+        factor += detail::CubicBSplineDerivative(argument) * ratios[k];
       }
       if (factor == 0.0)
       {

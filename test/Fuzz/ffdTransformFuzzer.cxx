@@ -15,11 +15,14 @@
  *  limitations under the License.
  *
  *=========================================================================*/
-// libFuzzer target: reading ITK transform files (the --transform-out / --templates path of ffd-match), then
-// using what was read. Whatever the bytes, reading must end in transforms or an itk::ExceptionObject, and a
-// transform that was read must map a point (and its B-spline Jacobian) without a crash or undefined behaviour.
+// libFuzzer target: reading ITK transform files (the --transform-out / --templates path of ffd-match, with the
+// module's ParametricTemplateTransform registered), then using what was read. Whatever the bytes, reading must end in
+// transforms or an itk::ExceptionObject, and a transform that was read must map a point (and its B-spline Jacobian)
+// without a crash or undefined behaviour.
 
 #include "itkBSplineTransform.h"
+#include "itkParametricTemplateTransform.h"
+#include "itkRegisterFFDShapeMatchingTransforms.h"
 #include "itkTransformFileReader.h"
 #include "itkTransformFactory.h"
 
@@ -34,6 +37,7 @@ extern "C" int
 LLVMFuzzerInitialize(int *, char ***)
 {
   itk::TransformFactory<itk::BSplineTransform<double, 3, 3>>::RegisterTransform();
+  itk::RegisterFFDShapeMatchingTransforms();
   return 0;
 }
 
@@ -52,6 +56,14 @@ LLVMFuzzerTestOneInput(const uint8_t * data, size_t size)
     reader->Update();
     for (const auto & transform : *reader->GetTransformList())
     {
+      itk::Point<double, 3> origin;
+      origin.Fill(0.5);
+      if (auto * parametric = dynamic_cast<itk::ParametricTemplateTransform<double, 3> *>(transform.GetPointer()))
+      {
+        parametric->TransformPoint(origin);
+        itk::ParametricTemplateTransform<double, 3>::JacobianType jacobian;
+        parametric->ComputeJacobianWithRespectToParameters(origin, jacobian);
+      }
       using BSplineType = itk::BSplineTransform<double, 3, 3>;
       if (auto * bspline = dynamic_cast<BSplineType *>(transform.GetPointer()))
       {

@@ -1,0 +1,70 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkCubicBSplineKernel_h
+#define itkCubicBSplineKernel_h
+
+#include <cmath>
+
+namespace itk
+{
+namespace detail
+{
+/** \file itkCubicBSplineKernel.h
+ * \brief The centred cubic B-spline kernel and its derivative, as plain inline functions for the module's hot loops
+ * (the sparse B-spline metric and the MRF unary projection evaluate them per voxel and support point; ITK's
+ * BSplineKernelFunction is a virtual-dispatch object).
+ * \ingroup FFDShapeMatching
+ */
+
+/** Cubic B-spline kernel: (4 - 6u^2 + 3|u|^3)/6 for |u| < 1, (2 - |u|)^3/6 for |u| < 2, 0 beyond. */
+inline double
+CubicBSpline(double u)
+{
+  const double a = std::abs(u);
+  if (a < 1.0)
+  {
+    return (4.0 - 6.0 * a * a + 3.0 * a * a * a) / 6.0;
+  }
+  if (a < 2.0)
+  {
+    const double b = 2.0 - a;
+    return b * b * b / 6.0;
+  }
+  return 0.0;
+}
+
+/** Derivative of CubicBSpline(). */
+inline double
+CubicBSplineDerivative(double u)
+{
+  const double a = std::abs(u);
+  if (a < 1.0)
+  {
+    return -2.0 * u + 1.5 * u * a;
+  }
+  if (a < 2.0)
+  {
+    const double b = 2.0 - a;
+    return (u < 0.0 ? 0.5 : -0.5) * b * b;
+  }
+  return 0.0;
+}
+} // namespace detail
+} // namespace itk
+
+#endif // itkCubicBSplineKernel_h
