@@ -416,7 +416,7 @@ ParametricTemplateTransform<TParametersValueType, NDimensions>::ComputeCoefficie
   }
   // Sample the displacement at the control points, then B-spline-decompose each component.
   using ComponentImageType = Image<double, NDimensions>;
-  const auto &          grid = m_GridTransform->GetCoefficientImages()[0];
+  const auto            grid = m_GridTransform->GetCoefficientImages()[0]; // a copy: the array is a temporary
   CoefficientVectorType coefficients(this->GetNumberOfCoefficients(), 0.0);
   for (unsigned int d = 0; d < NDimensions; ++d)
   {

@@ -636,7 +636,8 @@ itkStrictTextMeshIOTest(int argc, char * argv[])
               << " accepted, " << numberOfReads - numberOfAccepted << " refused with a message, " << failures
               << " failures" << std::endl;
     ITK_TEST_EXPECT_EQUAL(failures, 0);
-    ITK_TEST_EXPECT_TRUE(seconds < 10.0);
+    // A hang would be caught by the test's CTest TIMEOUT; the time itself is not asserted (sanitizer builds are
+    // several times slower).
   }
 
   return testStatus;
