@@ -45,6 +45,10 @@ if [ "$status" -ne 0 ]; then
 fi
 echo "== sanitizer test run: $(( $(date +%s) - start )) s =="
 
+if [ "$fuzz_seconds" -eq 0 ]; then
+  echo "== timed fuzzing not run (FUZZ_SECONDS=0); the corpora were replayed by the test suite =="
+  exit 0
+fi
 mkdir -p "$build_dir/fuzz-artifacts"
 for fuzzer in ffdMeshFuzzer ffdTransformFuzzer; do
   case $fuzzer in

@@ -54,6 +54,12 @@ ReadTemplates(const Options & options)
   {
     throw Error("cannot read the templates '" + options.templates + "': " + OneLine(error.GetDescription()));
   }
+  catch (const std::exception & error)
+  {
+    // ITK 5.2's text transform reader throws standard exceptions on some malformed files (found by fuzzing).
+    throw Error("cannot read the templates '" + options.templates + "': malformed transform file (" +
+                OneLine(error.what()) + ")");
+  }
   ParametricTransformType::Pointer                         templates;
   std::vector<const BSplineType *>                         bsplines;
   std::vector<itk::TransformBaseTemplate<double>::Pointer> all(reader->GetTransformList()->begin(),

@@ -31,7 +31,9 @@ namespace itk
 /** Registers ParametricTemplateTransform<double, 3> and ParametricTemplateTransform<float, 3> with ITK's
  * TransformFactory, once per process (later calls change nothing), so that TransformFileReaderTemplate<double>
  * and <float> create them from "ParametricTemplateTransform_double_3_3" / "_float_3_3" entries of .tfm, .txt or
- * .h5 files. Writing needs no registration. Not to be called concurrently with the creation of transforms.
+ * .h5 files. It also registers ITK's text transform IO (TxtTransformIOFactory: .tfm, .txt) when no factory of
+ * that type is registered yet, so programs and tests built without UseITK's automatic IO registration read and
+ * write .tfm files too. Not to be called concurrently with the creation of transforms or transform IOs.
  *
  * \code
  * itk::RegisterFFDShapeMatchingTransforms();

@@ -17,7 +17,9 @@
  *=========================================================================*/
 #include "itkRegisterFFDShapeMatchingTransforms.h"
 #include "itkParametricTemplateTransform.h"
+#include "itkObjectFactoryBase.h"
 #include "itkTransformFactory.h"
+#include "itkTxtTransformIOFactory.h"
 #include <mutex>
 
 namespace itk
@@ -29,6 +31,16 @@ RegisterFFDShapeMatchingTransforms()
   std::call_once(registered, []() {
     TransformFactory<ParametricTemplateTransform<double, 3>>::RegisterTransform();
     TransformFactory<ParametricTemplateTransform<float, 3>>::RegisterTransform();
+    // ITK's text transform IO (.tfm, .txt), which programs built without UseITK's factory registration lack.
+    bool haveTextIO = false;
+    for (ObjectFactoryBase * factory : ObjectFactoryBase::GetRegisteredFactories())
+    {
+      haveTextIO = haveTextIO || dynamic_cast<TxtTransformIOFactory *>(factory) != nullptr;
+    }
+    if (!haveTextIO)
+    {
+      TxtTransformIOFactory::RegisterOneFactory();
+    }
   });
 }
 } // namespace itk
