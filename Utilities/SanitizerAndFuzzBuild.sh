@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
 # Reliability build of FFDShapeMatching (issue "Reliability"): the module, its tests and programs built with
 # Clang, AddressSanitizer and UndefinedBehaviorSanitizer; the WHOLE test suite run under them (any report fails
-# the test that caused it); then each libFuzzer target fuzzed for FUZZ_SECONDS (default 60) seconds from its
-# seed corpus in test/Fuzz/Corpus. A crash, hang (> 10 s per input), leak or sanitizer report fails the run and
-# leaves the input in $build_dir/fuzz-artifacts: add it to the corpus as a regression test once fixed.
+# the test that caused it); then each libFuzzer target fuzzed from its seed corpus in test/Fuzz/Corpus for
+# FUZZ_RUNS (default 20000) inputs or FUZZ_SECONDS (default 60) seconds, whichever comes first, from the random
+# seed FUZZ_SEED (default 1): with the same seed and build the same inputs are tried, so a run that passed here
+# passes in CI. A crash, hang (> 10 s per input), leak or sanitizer report fails the run and leaves the input in
+# $build_dir/fuzz-artifacts: add it to the corpus and to the bad-input matrix as a regression test once fixed
+# (test/Fuzz/Findings/README.md).
 #
 #   Utilities/SanitizerAndFuzzBuild.sh            build dir ./build-sanitize
-#   FUZZ_SECONDS=600 Utilities/SanitizerAndFuzzBuild.sh
+#   FUZZ_SECONDS=600 FUZZ_RUNS=-1 FUZZ_SEED=0 Utilities/SanitizerAndFuzzBuild.sh   (longer, new inputs each time)
 #
 # Debian's ITK was built with GCC; CMake/FFDShapeMatchingClangWithDebianITK.cmake lets Clang use it.
 set -euo pipefail
@@ -14,6 +17,8 @@ cd "$(dirname "$0")/.."
 bash Utilities/InstallDependencies.sh
 build_dir=${FFD_SANITIZE_BUILD_DIR:-build-sanitize}
 fuzz_seconds=${FUZZ_SECONDS:-60}
+fuzz_runs=${FUZZ_RUNS:-20000}
+fuzz_seed=${FUZZ_SEED:-1}
 sanitizers="-fsanitize=address,undefined"
 compile_flags="$sanitizers -fno-omit-frame-pointer -g"
 start=$(date +%s)
@@ -56,8 +61,9 @@ for fuzzer in ffdMeshFuzzer ffdTransformFuzzer; do
     ffdTransformFuzzer) seeds=test/Fuzz/Corpus/Transform ;;
   esac
   work=$(mktemp -d)
-  echo "== fuzzing $fuzzer for $fuzz_seconds s =="
-  "$build_dir/test/Fuzz/$fuzzer" -max_total_time="$fuzz_seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+  echo "== fuzzing $fuzzer: $fuzz_runs inputs or $fuzz_seconds s, seed $fuzz_seed =="
+  "$build_dir/test/Fuzz/$fuzzer" -seed="$fuzz_seed" -runs="$fuzz_runs" -max_total_time="$fuzz_seconds" \
+    -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
     -artifact_prefix="$build_dir/fuzz-artifacts/$fuzzer-" "$work" "$seeds"
   rm -rf "$work"
 done

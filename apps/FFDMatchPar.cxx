@@ -24,6 +24,7 @@
 #include "itkParametricTemplateRegistrationMethod.h"
 #include "itkParametricTemplateTransform.h"
 #include "itkRegisterFFDShapeMatchingTransforms.h"
+#include "itkTransformFileChecks.h"
 #include "itkTransformFileReader.h"
 
 #include <iomanip>
@@ -44,6 +45,12 @@ ParametricTransformType::Pointer
 ReadTemplates(const Options & options)
 {
   itk::RegisterFFDShapeMatchingTransforms();
+  // ITK's reader builds B-spline grids from unchecked values (a negative size is undefined behaviour).
+  const std::string fileProblem = itk::FindProblemInTextTransformFile(options.templates);
+  if (!fileProblem.empty())
+  {
+    throw Error("cannot read the templates '" + options.templates + "': " + fileProblem);
+  }
   auto reader = itk::TransformFileReaderTemplate<double>::New();
   reader->SetFileName(options.templates);
   try

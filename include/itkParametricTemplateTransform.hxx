@@ -20,6 +20,7 @@
 
 #include "itkParametricTemplateTransform.h"
 #include "itkBSplineDecompositionImageFilter.h"
+#include "itkTransformFileChecks.h"
 #include "itkImageRegionIteratorWithIndex.h"
 #include <Eigen/SVD>
 #include <algorithm>
@@ -708,6 +709,13 @@ ParametricTemplateTransform<TParametersValueType, NDimensions>::SetFixedParamete
   for (unsigned int i = 0; i < NumberOfGridFixedParameters; ++i)
   {
     grid[i] = fixedParameters[i];
+  }
+  // ITK's BSplineTransform converts the grid sizes to unsigned sizes and allocates the grid without checks.
+  const std::string gridProblem =
+    FindProblemInBSplineFixedParameters(grid.data_block(), NumberOfGridFixedParameters, NDimensions);
+  if (!gridProblem.empty())
+  {
+    itkExceptionMacro(<< "Bad grid in the fixed parameters: " << gridProblem);
   }
   // Parse into temporaries first: a bad vector leaves the transform unchanged.
   auto candidate = BSplineTransformType::New();

@@ -41,6 +41,7 @@
 #include <cstdio>
 #include <cstring>
 #include <iterator>
+#include <limits>
 #include <sstream>
 #include <fstream>
 #include <type_traits>
@@ -231,6 +232,43 @@ DecodePLYValue(const char * data, const std::string & type, bool bigEndian)
   return as(double{});
 }
 
+/** Longest line VTK's PLY reader reads as one line (its line buffer, less the end of line): a longer line is cut,
+ * and the rest read as the next line. */
+constexpr std::string::size_type MaximumPLYLineLength = 4094;
+
+/** Splits a PLY line into words the way VTK's PLY reader does: words are separated by spaces and tabs only (a
+ * vertical tab or a form feed is part of a word), a carriage return ends the line. */
+std::vector<std::string>
+SplitPLYLine(const std::string & line)
+{
+  std::vector<std::string> words;
+  std::string              word;
+  for (const char character : line)
+  {
+    if (character == '\r')
+    {
+      break;
+    }
+    if (character == ' ' || character == '\t')
+    {
+      if (!word.empty())
+      {
+        words.push_back(word);
+        word.clear();
+      }
+    }
+    else
+    {
+      word += character;
+    }
+  }
+  if (!word.empty())
+  {
+    words.push_back(word);
+  }
+  return words;
+}
+
 /** Checks the structure of a PLY file before VTK reads it (VTK's PLY code crashes on a file
  * shorter than its header announces, and accepts faces on missing vertices): the signature,
  * the header (format, elements, property types, end_header), a vertex element with x, y and
@@ -272,19 +310,24 @@ CheckPLYFile(const std::string & fileName)
     {
       return "the PLY header has no end_header line";
     }
-    std::istringstream line(content.substr(position, endOfLine - position));
+    const std::string text = content.substr(position, endOfLine - position);
     position = endOfLine + 1;
-    std::string keyword;
-    line >> keyword;
     const std::string where = "PLY header line " + std::to_string(lineNumber) + ": ";
+    if (text.size() > MaximumPLYLineLength || text.find('\0') != std::string::npos)
+    {
+      return where + "longer than " + std::to_string(MaximumPLYLineLength) + " characters or holding a NUL byte";
+    }
+    const std::vector<std::string> words = SplitPLYLine(text);
+    // The i-th word after the keyword, or "" when the line has fewer words.
+    auto word = [&words](std::size_t i) { return i < words.size() ? words[i] : std::string(); };
+    const std::string keyword = word(0);
     if (lineNumber == 1 || keyword.empty() || keyword == "comment" || keyword == "obj_info")
     {
       continue;
     }
     if (keyword == "format")
     {
-      std::string version;
-      line >> format >> version;
+      format = word(1);
       if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
       {
         return where + "unknown format \"" + format + "\"";
@@ -292,12 +335,17 @@ CheckPLYFile(const std::string & fileName)
     }
     else if (keyword == "element")
     {
-      Element     element;
-      std::string count;
-      line >> element.Name >> count;
+      Element           element;
+      const std::string count = word(2);
+      element.Name = word(1);
       if (element.Name.empty() || count.empty() || count.find_first_not_of("0123456789") != std::string::npos)
       {
         return where + "an element needs a name and a count";
+      }
+      // VTK counts elements in an int.
+      if (count.size() > 10 || std::stoull(count) > static_cast<unsigned long long>(std::numeric_limits<int>::max()))
+      {
+        return where + "an element count of " + count + ", more than a PLY reader can count";
       }
       element.Count = std::stoull(count);
       elements.push_back(element);
@@ -308,19 +356,21 @@ CheckPLYFile(const std::string & fileName)
       {
         return where + "a property before any element";
       }
-      Property property;
-      line >> property.Type;
+      Property    property;
+      std::size_t next = 1;
+      property.Type = word(next++);
       if (property.Type == "list")
       {
         property.IsList = true;
-        line >> property.CountType >> property.Type;
+        property.CountType = word(next++);
+        property.Type = word(next++);
         if (PLYTypeSize(property.CountType) == 0 || property.CountType == "float" || property.CountType == "float32" ||
             property.CountType == "double" || property.CountType == "float64")
         {
           return where + "a list count of type \"" + property.CountType + "\"";
         }
       }
-      line >> property.Name;
+      property.Name = word(next);
       if (PLYTypeSize(property.Type) == 0 || property.Name.empty())
       {
         return where + "a property of unknown type \"" + property.Type + "\" or without a name";
@@ -368,32 +418,44 @@ CheckPLYFile(const std::string & fileName)
   }
   const double numberOfVertices = static_cast<double>(vertexElement->Count);
 
-  // The body: every announced value present, face vertex indices in range.
-  const bool   ascii = format == "ascii";
-  const bool   bigEndian = format == "binary_big_endian";
-  const char * data = content.data() + position;
-  const char * end = content.data() + content.size();
-  // Reads the next value; false at the end of the data or on a malformed ASCII number.
-  auto readValue = [&data, end, ascii, bigEndian](const std::string & type, double & value) -> bool {
+  // The body: every announced value present, face vertex indices in range. ASCII data is checked the way VTK's
+  // PLY reader reads it (VTK frees memory twice on some ASCII files that other readers would accept): each element
+  // on a line of its own, words separated by spaces and tabs only, exactly as many words as its properties need.
+  const bool               ascii = format == "ascii";
+  const bool               bigEndian = format == "binary_big_endian";
+  const char *             data = content.data() + position;
+  const char *             end = content.data() + content.size();
+  std::vector<std::string> lineWords; // ASCII: the words of the current element's line not read yet
+  std::size_t              nextWord = 0;
+  // ASCII: moves to the next line; false at the end of the data or on a line VTK would not read as one line.
+  auto readLine = [&data, end, &lineWords, &nextWord]() -> bool {
+    if (data >= end)
+    {
+      return false;
+    }
+    const char *      endOfLine = std::find(data, end, '\n');
+    const std::string text(data, endOfLine);
+    data = endOfLine == end ? end : endOfLine + 1;
+    if (text.size() > MaximumPLYLineLength || text.find('\0') != std::string::npos)
+    {
+      return false;
+    }
+    lineWords = SplitPLYLine(text);
+    nextWord = 0;
+    return true;
+  };
+  // Reads the next value; false at the end of the data (ASCII: of the element's line) or on a malformed number.
+  auto readValue = [&data, end, ascii, bigEndian, &lineWords, &nextWord](const std::string & type,
+                                                                         double &            value) -> bool {
     if (ascii)
     {
-      while (data < end && std::isspace(static_cast<unsigned char>(*data)))
-      {
-        ++data;
-      }
-      const char * tokenEnd = data;
-      while (tokenEnd < end && !std::isspace(static_cast<unsigned char>(*tokenEnd)))
-      {
-        ++tokenEnd;
-      }
-      if (tokenEnd == data)
+      if (nextWord >= lineWords.size())
       {
         return false;
       }
-      const std::string token(data, tokenEnd);
-      char *            parsedEnd = nullptr;
+      const std::string & token = lineWords[nextWord++];
+      char *              parsedEnd = nullptr;
       value = std::strtod(token.c_str(), &parsedEnd);
-      data = tokenEnd;
       return parsedEnd == token.c_str() + token.size();
     }
     const unsigned int size = PLYTypeSize(type);
@@ -410,10 +472,14 @@ CheckPLYFile(const std::string & fileName)
     const bool isFace = element.Name == "face";
     for (unsigned long long i = 0; i < element.Count; ++i)
     {
+      const std::string where = (ascii ? "ASCII" : "binary") + std::string(" PLY data ends or is malformed in ") +
+                                element.Name + " " + std::to_string(i) + " of " + std::to_string(element.Count);
+      if (ascii && !readLine())
+      {
+        return where;
+      }
       for (const Property & property : element.Properties)
       {
-        const std::string where = (ascii ? "ASCII" : "binary") + std::string(" PLY data ends or is malformed in ") +
-                                  element.Name + " " + std::to_string(i) + " of " + std::to_string(element.Count);
         double value = 0.0;
         if (!property.IsList)
         {
@@ -443,7 +509,57 @@ CheckPLYFile(const std::string & fileName)
           }
         }
       }
+      if (ascii && nextWord != lineWords.size())
+      {
+        return "ASCII PLY " + element.Name + " " + std::to_string(i) + " of " + std::to_string(element.Count) +
+               " has " + std::to_string(lineWords.size()) + " values on its line, its properties need " +
+               std::to_string(nextWord);
+      }
     }
+  }
+  return "";
+}
+
+/** Checks what VTK's XML PolyData reader does not check before it uses it: the points' array must have 3
+ * components (VTK 9.1 leaks the arrays it read when it has another number). A light scan of the first <Points>
+ * element's first <DataArray> tag; everything else (XML syntax, data, encodings) is left to VTK's reader, which
+ * reports it. Returns the problem, or "". */
+std::string
+CheckVTPFile(const std::string & fileName)
+{
+  std::ifstream     file(fileName, std::ios::binary);
+  const std::string content((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  std::string::size_type points = content.find("<Points");
+  while (points != std::string::npos && points + 7 < content.size() && content[points + 7] != '>' &&
+         !std::isspace(static_cast<unsigned char>(content[points + 7])))
+  {
+    points = content.find("<Points", points + 7); // e.g. <PointsSomething: not the element
+  }
+  if (points == std::string::npos)
+  {
+    return "";
+  }
+  const std::string::size_type array = content.find("<DataArray", points);
+  const std::string::size_type pointsEnd = content.find("</Points", points);
+  if (array == std::string::npos || (pointsEnd != std::string::npos && pointsEnd < array))
+  {
+    return "";
+  }
+  const std::string::size_type tagEnd = content.find('>', array);
+  const std::string            tag = content.substr(array, tagEnd == std::string::npos ? std::string::npos : tagEnd - array);
+  std::string                  components = "1"; // VTK's default when the attribute is missing
+  const std::string            attribute = "NumberOfComponents=";
+  const std::string::size_type at = tag.find(attribute);
+  if (at != std::string::npos && at + attribute.size() < tag.size())
+  {
+    const char                   quote = tag[at + attribute.size()];
+    const std::string::size_type valueEnd = tag.find(quote, at + attribute.size() + 1);
+    components = tag.substr(at + attribute.size() + 1,
+                            valueEnd == std::string::npos ? std::string::npos : valueEnd - at - attribute.size() - 1);
+  }
+  if (components != "3")
+  {
+    return "the points' DataArray has NumberOfComponents=\"" + components.substr(0, 20) + "\", not 3";
   }
   return "";
 }
@@ -589,7 +705,7 @@ VTKSurfaceMeshIO::ReadMeshInformation()
 
   std::string                  problem = format == "STL"   ? CheckSTLFile(m_FileName)
                                          : format == "PLY" ? CheckPLYFile(m_FileName)
-                                                           : std::string();
+                                                           : CheckVTPFile(m_FileName);
   vtkSmartPointer<vtkPolyData> polyData;
   if (problem.empty())
   {

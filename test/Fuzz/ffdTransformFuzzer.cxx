@@ -23,6 +23,7 @@
 #include "itkBSplineTransform.h"
 #include "itkParametricTemplateTransform.h"
 #include "itkRegisterFFDShapeMatchingTransforms.h"
+#include "itkTransformFileChecks.h"
 #include "itkTransformFileReader.h"
 #include "itkTransformFactory.h"
 
@@ -52,6 +53,12 @@ LLVMFuzzerTestOneInput(const uint8_t * data, size_t size)
   }
   try
   {
+    // As the module's programs do: the file's B-spline grids are checked before ITK's reader builds them.
+    if (!itk::FindProblemInTextTransformFile(fileName).empty())
+    {
+      std::remove(fileName.c_str());
+      return 0;
+    }
     auto reader = itk::TransformFileReaderTemplate<double>::New();
     reader->SetFileName(fileName);
     reader->Update();
