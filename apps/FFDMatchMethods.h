@@ -72,7 +72,8 @@ struct Options
   double       sampling{ 0.25 };
   double       bendingWeight{ 1.0 };
   double       foldingWeight{ 0.0 };
-  double       mrfWeight{ 5.0 };
+  double       mrfWeight{ 1.0 };
+  bool         mrfPyramid{ false }; // method mrf: smooth and shrink the images at coarse levels
   double       timeLimit{ 0.0 };   // seconds of registration, 0 = none
   double       memoryLimit{ 0.0 }; // MB, 0 = from the available memory
   bool         demo{ false };

@@ -90,7 +90,7 @@ const char * const Usage =
   "                 [--threads N] [--seed S]\n"
   "                 [--levels L] [--iterations N] [--sampling P]\n"
   "                 [--time-limit SECONDS] [--memory-limit MB]\n"
-  "                 [--bending-weight W] [--folding-weight W] [--mrf-weight W]\n"
+  "                 [--bending-weight W] [--folding-weight W] [--mrf-weight W] [--mrf-pyramid on|off]\n"
   "       ffd-match --demo [--output-dir DIR] [same tuning options]\n"
   "  --source        mesh moved onto the target (OFF, OBJ, VTK, VTP, STL or PLY)\n"
   "  --target        mesh (or open surface patch) matched to\n"
@@ -101,7 +101,9 @@ const char * const Usage =
   "  --templates     ITK transform file of B-spline templates on one grid (par methods)\n"
   "  --template-split control-point (default): one weight per control point and template;\n"
   "                  axis: per control point and axis; none: one weight per template\n"
-  "  --mrf-weight    regularization weight lambda of method mrf (default 5)\n"
+  "  --mrf-weight    regularization weight lambda of method mrf (default 1)\n"
+  "  --mrf-pyramid   off (default): every mrf level uses the full-resolution images; on: coarse levels\n"
+  "                  use smoothed, shrunk images (faster, less accurate on thin distance bands)\n"
   "  --output        deformed source: the source's vertex order and cells, moved onto the target\n"
   "  --grid          control points per axis of the final B-spline grid, >= 4 (default 20)\n"
   "  --voxel-size    voxel edge length in mesh units (default 1.0)\n"
@@ -116,7 +118,7 @@ const char * const Usage =
   "  --threads       number of threads (default all)\n"
   "  --seed          seed of the metric sampling (and of the demo's deformation), default 121212\n"
   "  --levels        resolution levels (default 2)\n"
-  "  --iterations    optimizer iterations per level (default 50)\n"
+  "  --iterations    optimizer iterations per level (default 50; mrf: 8)\n"
   "  --sampling      fraction of the band voxels sampled by the metric, (0, 1] (default 0.25)\n"
   "  --time-limit    stop the registration after this many seconds and go on with the transform\n"
   "                  reached so far (the report says so); default: no limit\n"
@@ -268,6 +270,15 @@ ParseArguments(int argc, char * argv[])
       {
         throw Error("--mrf-weight must be >= 0");
       }
+    }
+    else if (argument == "--mrf-pyramid")
+    {
+      const std::string setting = value();
+      if (setting != "on" && setting != "off")
+      {
+        throw Error("--mrf-pyramid must be on or off, not '" + setting + "'");
+      }
+      options.mrfPyramid = setting == "on";
     }
     else if (argument == "--time-limit")
     {

@@ -817,6 +817,7 @@ def tables_only(options):
     file's record replacing an earlier one of the same mesh, regime, seed and method; the settings are the first
     file's, with the union of the methods, peers and seeds)."""
     records = {}
+    versions = {}
     first = None
     for path in options.tables_only.split(","):
         data = read_json(path)
@@ -833,15 +834,22 @@ def tables_only(options):
                 getattr(options, key).extend(v for v in data["options"][key] if v not in getattr(options, key))
         for record in data["records"]:
             records[(record["mesh"], record["regime"], record["seed"], record["name"])] = record
+        # The versions of every merged run: a program that changed between runs lists each version.
+        for key, value in data.get("versions", {}).items():
+            if value is None:
+                continue  # the program was not there in that run
+            known = versions.setdefault(key, value)
+            if value not in known.split(", "):
+                versions[key] = known + ", " + value
     records = list(records.values())
     options.seed_list = ", ".join(str(seed) for seed in sorted(set(r["seed"] for r in records)))
     results_dir = os.path.abspath(options.results_dir)
     os.makedirs(results_dir, exist_ok=True)
     with open(os.path.join(results_dir, "results.json"), "w") as out:
-        json.dump({"options": {k: v for k, v in vars(options).items()}, "versions": first["versions"],
+        json.dump({"options": {k: v for k, v in vars(options).items()}, "versions": versions,
                    "records": records}, out, indent=1)
     charts = write_charts(records, options, results_dir)
-    write_results(records, options, first["versions"], results_dir, charts)
+    write_results(records, options, versions, results_dir, charts)
     log("wrote %s and %d charts" % (os.path.join(results_dir, "RESULTS.md"), len(charts)))
     return 0
 

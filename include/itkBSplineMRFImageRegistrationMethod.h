@@ -56,9 +56,11 @@ namespace itk
  * accepted when the true energy decreases. ICM can be chosen for comparison (SetSolver()).
  *
  * \par Multi-resolution
- * NumberOfLevels levels; level l (from 0) smooths the images with a Gaussian of 0.5 s voxels and shrinks them by
- * s = 2^(L-1-l), as the GO method does, and uses a control grid about as much coarser
- * (GetMeshSizeAtLevel()), refined between levels with BSplineTransformParametersAdaptor.
+ * NumberOfLevels levels; level l (from 0) uses a control grid about 2^(L-1-l) times coarser
+ * (GetMeshSizeAtLevel()), refined between levels with BSplineTransformParametersAdaptor. With UseImagePyramid
+ * (default On) the level also smooths the images with a Gaussian of 0.5 s voxels and shrinks them by
+ * s = 2^(L-1-l), as the GO method does; Off keeps the full-resolution images at every level (slower coarse
+ * levels, no loss of the thin structures a shrink removes).
  *
  * \par Labels
  * LabelSet Sparse (default): zero and +-x, +-y, +-z at NumberOfLabelSteps steps (6K + 1 labels);
@@ -201,6 +203,11 @@ public:
   itkGetConstMacro(TruncationValue, double);
 
   /** Reject an update whose sampled minimum Jacobian determinant is below FoldingThreshold. Default: On. */
+  /** Whether coarse levels smooth and shrink the images (On, default) or keep them at full resolution. */
+  itkSetMacro(UseImagePyramid, bool);
+  itkGetConstMacro(UseImagePyramid, bool);
+  itkBooleanMacro(UseImagePyramid);
+
   itkSetMacro(RejectFoldingUpdates, bool);
   itkGetConstMacro(RejectFoldingUpdates, bool);
   itkBooleanMacro(RejectFoldingUpdates);
@@ -370,6 +377,7 @@ private:
   PairwiseFunctionEnum m_PairwiseFunction{ PairwiseFunctionEnum::Quadratic };
   double               m_TruncationValue{ 0.5 };
   bool                 m_RejectFoldingUpdates{ true };
+  bool                 m_UseImagePyramid{ true };
   double               m_FoldingThreshold{ 0.05 };
   unsigned int         m_NumberOfSolverCycles{ 2 };
   SolverEnum           m_Solver{ SolverEnum::AlphaExpansion };

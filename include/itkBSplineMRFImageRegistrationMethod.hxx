@@ -1026,7 +1026,7 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::RunLevel(unsigned 
                                                                        BSplineTransformType * transform,
                                                                        unsigned int &         iterationCount)
 {
-  const unsigned int   factor = 1u << (m_NumberOfLevels - 1 - level);
+  const unsigned int   factor = m_UseImagePyramid ? 1u << (m_NumberOfLevels - 1 - level) : 1u;
   InternalImagePointer fixed = MakeLevelImage(this->GetFixedImage(), factor);
   InternalImagePointer moving = MakeLevelImage(this->GetMovingImage(), factor);
 
@@ -1168,6 +1168,7 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::PrintSelf(std::ost
   os << indent << "PairwiseFunction: " << m_PairwiseFunction << std::endl;
   os << indent << "TruncationValue: " << m_TruncationValue << std::endl;
   os << indent << "RejectFoldingUpdates: " << (m_RejectFoldingUpdates ? "On" : "Off") << std::endl;
+  os << indent << "UseImagePyramid: " << (m_UseImagePyramid ? "On" : "Off") << std::endl;
   os << indent << "FoldingThreshold: " << m_FoldingThreshold << std::endl;
   os << indent << "NumberOfSolverCycles: " << m_NumberOfSolverCycles << std::endl;
   os << indent << "Solver: " << m_Solver << std::endl;

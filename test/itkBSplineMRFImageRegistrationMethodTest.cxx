@@ -407,6 +407,7 @@ itkBSplineMRFImageRegistrationMethodTest(int argc, char * argv[])
   ITK_TEST_SET_GET_VALUE(LabelSetEnum::Sparse, registration->GetLabelSet());
   ITK_TEST_SET_GET_VALUE(SolverEnum::AlphaExpansion, registration->GetSolver());
   ITK_TEST_SET_GET_BOOLEAN(registration, RejectFoldingUpdates, true);
+  ITK_TEST_SET_GET_BOOLEAN(registration, UseImagePyramid, true);
   std::ostringstream printed;
   printed << SimilarityEnum::NormalizedCrossCorrelation << ' ' << PairwiseEnum::Truncated << ' ' << LabelSetEnum::Dense;
   ITK_TEST_EXPECT_EQUAL(
@@ -496,6 +497,20 @@ itkBSplineMRFImageRegistrationMethodTest(int argc, char * argv[])
     ITK_TEST_EXPECT_TRUE(EnergiesNeverIncrease(registration));
     ITK_TEST_EXPECT_TRUE(registration->GetMinimumJacobianDeterminant() > 0.0);
   }
+
+  // Without the image pyramid (every level at full resolution) the same accuracy holds.
+  registration->SetSimilarity(SimilarityEnum::SumOfSquaredDifferences);
+  registration->UseImagePyramidOff();
+  ITK_TRY_EXPECT_NO_EXCEPTION(registration->Update());
+  {
+    const double after = TrueError(testCase, registration->GetTransform());
+    std::cout << "SSD without the image pyramid: true error " << before << " -> " << after << " mm, " << elapsed()
+              << " s" << std::endl;
+    ITK_TEST_EXPECT_TRUE(after <= 0.4 * before);
+    ITK_TEST_EXPECT_TRUE(EnergiesNeverIncrease(registration));
+    ITK_TEST_EXPECT_TRUE(registration->GetMinimumJacobianDeterminant() > 0.0);
+  }
+  registration->UseImagePyramidOn();
 
   // Alpha-expansion reaches a labeling energy no higher than ICM's on the same first iteration.
   registration->SetSimilarity(SimilarityEnum::SumOfSquaredDifferences);
