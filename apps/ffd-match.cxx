@@ -27,6 +27,7 @@
 // leaves nothing half-written. Errors are one line on stderr and exit code 1.
 
 #include "FFDMatchMethods.h"
+#include "FFDProgramMeshIO.h"
 #include "FFDProgramSupport.h"
 #include "FFDSnapshot.h"
 #include "itkApplyTransformToMeshFilter.h"
@@ -454,70 +455,13 @@ private:
 MeshType::Pointer
 ReadMesh(const std::string & fileName, const std::string & role)
 {
-  std::error_code fileError;
-  if (!std::ifstream(fileName).good() || !std::filesystem::is_regular_file(fileName, fileError))
-  {
-    throw Error("cannot read " + role + " mesh '" + fileName + "': no such readable file");
-  }
-  auto reader = itk::MeshFileReader<MeshType>::New();
-  reader->SetFileName(fileName);
-  try
-  {
-    reader->Update();
-  }
-  catch (const itk::ExceptionObject & error)
-  {
-    throw Error("cannot read " + role + " mesh '" + fileName + "': " + OneLine(error.GetDescription()));
-  }
-  MeshType::Pointer mesh = reader->GetOutput();
-  mesh->DisconnectPipeline();
-  if (mesh->GetNumberOfPoints() == 0)
-  {
-    throw Error(role + " mesh '" + fileName + "' has no points");
-  }
-  for (auto it = mesh->GetPoints()->Begin(); it != mesh->GetPoints()->End(); ++it)
-  {
-    const auto & p = it.Value();
-    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
-    {
-      throw Error(role + " mesh '" + fileName + "' has a non-finite coordinate (vertex " + std::to_string(it.Index()) +
-                  ")");
-    }
-  }
-  itk::SizeValueType faces = 0;
-  if (mesh->GetCells() != nullptr)
-  {
-    for (auto it = mesh->GetCells()->Begin(); it != mesh->GetCells()->End(); ++it)
-    {
-      const auto type = it.Value()->GetType();
-      if ((type == itk::CellGeometryEnum::TRIANGLE_CELL || type == itk::CellGeometryEnum::POLYGON_CELL) &&
-          it.Value()->GetNumberOfPoints() >= 3)
-      {
-        ++faces;
-      }
-    }
-  }
-  if (faces == 0)
-  {
-    throw Error(role + " mesh '" + fileName + "' has no triangles");
-  }
-  return mesh;
+  return ffd::ReadCheckedMesh<Error, MeshType>(fileName, role);
 }
 
 void
 WriteMesh(const MeshType * mesh, const std::string & fileName, const std::string & shownName)
 {
-  auto writer = itk::MeshFileWriter<MeshType>::New();
-  writer->SetInput(mesh);
-  writer->SetFileName(fileName);
-  try
-  {
-    writer->Update();
-  }
-  catch (const itk::ExceptionObject & error)
-  {
-    throw Error("cannot write mesh '" + shownName + "': " + OneLine(error.GetDescription()));
-  }
+  ffd::WriteMeshFile<Error>(mesh, fileName, shownName);
 }
 
 // The voxelization filter's mode for a --voxelization name.

@@ -35,6 +35,7 @@
 //
 // Errors are one line on stderr ("ffd-benchmark-tool: error: ...") and exit code 1.
 
+#include "FFDProgramMeshIO.h"
 #include "FFDProgramSupport.h"
 #include "itkApplyTransformToMeshFilter.h"
 #include "itkDisplacementFieldTransform.h"
@@ -195,43 +196,13 @@ JsonNumber(double value)
 MeshType::Pointer
 ReadMesh(const std::string & fileName, const std::string & role)
 {
-  if (!std::ifstream(fileName).good())
-  {
-    throw Error("cannot read " + role + " mesh '" + fileName + "': no such readable file");
-  }
-  auto reader = itk::MeshFileReader<MeshType>::New();
-  reader->SetFileName(fileName);
-  try
-  {
-    reader->Update();
-  }
-  catch (const itk::ExceptionObject & error)
-  {
-    throw Error("cannot read " + role + " mesh '" + fileName + "': " + OneLine(error.GetDescription()));
-  }
-  MeshType::Pointer mesh = reader->GetOutput();
-  mesh->DisconnectPipeline();
-  if (mesh->GetNumberOfPoints() == 0 || mesh->GetNumberOfCells() == 0)
-  {
-    throw Error(role + " mesh '" + fileName + "' has no points or no cells");
-  }
-  return mesh;
+  return ffd::ReadCheckedMesh<Error, MeshType>(fileName, role);
 }
 
 void
 WriteMesh(const MeshType * mesh, const std::string & fileName)
 {
-  auto writer = itk::MeshFileWriter<MeshType>::New();
-  writer->SetInput(mesh);
-  writer->SetFileName(fileName);
-  try
-  {
-    writer->Update();
-  }
-  catch (const itk::ExceptionObject & error)
-  {
-    throw Error("cannot write mesh '" + fileName + "': " + OneLine(error.GetDescription()));
-  }
+  ffd::WriteMeshFile<Error>(mesh, fileName, fileName);
 }
 
 void

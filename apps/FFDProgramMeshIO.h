@@ -1,0 +1,114 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef FFDProgramMeshIO_h
+#define FFDProgramMeshIO_h
+
+// Mesh reading and writing shared by the module's command-line programs (ffd-match, ffd-benchmark-tool): every
+// refusal is one line naming the file and the problem, thrown as the program's own error type.
+
+#include "FFDProgramSupport.h"
+#include "itkMeshFileReader.h"
+#include "itkMeshFileWriter.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <system_error>
+
+namespace ffd
+{
+/** Reads the mesh \c fileName (\c role names it in messages: "source", "target", ...) and checks it: a readable
+ * regular file, points present and finite, at least one triangle or polygon cell. Throws \c TError otherwise. */
+template <typename TError, typename TMesh>
+typename TMesh::Pointer
+ReadCheckedMesh(const std::string & fileName, const std::string & role)
+{
+  std::error_code fileError;
+  if (!std::ifstream(fileName).good() || !std::filesystem::is_regular_file(fileName, fileError))
+  {
+    throw TError("cannot read " + role + " mesh '" + fileName + "': no such readable file");
+  }
+  auto reader = itk::MeshFileReader<TMesh>::New();
+  reader->SetFileName(fileName);
+  try
+  {
+    reader->Update();
+  }
+  catch (const itk::ExceptionObject & error)
+  {
+    throw TError("cannot read " + role + " mesh '" + fileName + "': " + OneLine(error.GetDescription()));
+  }
+  typename TMesh::Pointer mesh = reader->GetOutput();
+  mesh->DisconnectPipeline();
+  if (mesh->GetNumberOfPoints() == 0)
+  {
+    throw TError(role + " mesh '" + fileName + "' has no points");
+  }
+  for (auto it = mesh->GetPoints()->Begin(); it != mesh->GetPoints()->End(); ++it)
+  {
+    for (unsigned int d = 0; d < TMesh::PointDimension; ++d)
+    {
+      if (!std::isfinite(it.Value()[d]))
+      {
+        throw TError(role + " mesh '" + fileName + "' has a non-finite coordinate (vertex " +
+                     std::to_string(it.Index()) + ")");
+      }
+    }
+  }
+  itk::SizeValueType faces = 0;
+  if (mesh->GetCells() != nullptr)
+  {
+    for (auto it = mesh->GetCells()->Begin(); it != mesh->GetCells()->End(); ++it)
+    {
+      const auto type = it.Value()->GetType();
+      if ((type == itk::CellGeometryEnum::TRIANGLE_CELL || type == itk::CellGeometryEnum::POLYGON_CELL) &&
+          it.Value()->GetNumberOfPoints() >= 3)
+      {
+        ++faces;
+      }
+    }
+  }
+  if (faces == 0)
+  {
+    throw TError(role + " mesh '" + fileName + "' has no triangles");
+  }
+  return mesh;
+}
+
+/** Writes \c mesh to \c fileName (the format from its extension); \c shownName is the name messages use (the final
+ * name when \c fileName is a temporary one). Throws \c TError on failure. */
+template <typename TError, typename TMesh>
+void
+WriteMeshFile(const TMesh * mesh, const std::string & fileName, const std::string & shownName)
+{
+  auto writer = itk::MeshFileWriter<TMesh>::New();
+  writer->SetInput(mesh);
+  writer->SetFileName(fileName);
+  try
+  {
+    writer->Update();
+  }
+  catch (const itk::ExceptionObject & error)
+  {
+    throw TError("cannot write mesh '" + shownName + "': " + OneLine(error.GetDescription()));
+  }
+}
+} // namespace ffd
+
+#endif // FFDProgramMeshIO_h
