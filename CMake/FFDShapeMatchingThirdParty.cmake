@@ -15,10 +15,12 @@ set(FFDShapeMatching_VTK_COMPONENTS
   IOLegacy
   IOPLY
   IOXML)
-# The programs' snapshot (ffd-match --snapshot) renders off screen. VTK's targets are imported once, here,
+# The programs' snapshot (ffd-match --snapshot) renders off screen; the benchmark's peers use VTK's voxelizers
+# (Imaging*) and its Hausdorff distance filter (FiltersModeling). VTK's targets are imported once, here,
 # with every component the project uses, so that their own dependencies (X11, GLEW, ...) resolve in one
 # directory scope; the module library links only the components above.
 set(FFDShapeMatching_VTK_PROGRAM_COMPONENTS
+  FiltersModeling
   ImagingHybrid
   ImagingStencil
   IOImage

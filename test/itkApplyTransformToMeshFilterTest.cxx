@@ -38,9 +38,14 @@ using CompositeType = itk::CompositeTransform<double, Dimension>;
 using FilterType = itk::ApplyTransformToMeshFilter<MeshType, MeshType>;
 using RandomType = itk::Statistics::MersenneTwisterRandomVariateGenerator;
 
-/** A B-spline over [0, 100]^3 mm whose control displacements are uniform in [-amplitude, amplitude] x spacing. */
+/** A B-spline over [0, 100]^3 mm whose control displacements are uniform in [-amplitude, amplitude] x spacing.
+ *
+ * With zeroBoundary, the control points whose basis functions reach the boundary of the domain (the first three
+ * and the last three along each axis of the meshSize + 3 per axis) have zero displacement, so the transform is the
+ * identity on the boundary and outside the domain: it then maps the domain onto itself, and every point of the
+ * domain has a preimage in it. */
 BSplineType::Pointer
-MakeRandomBSpline(unsigned int seed, double amplitude, unsigned int meshSize = 7)
+MakeRandomBSpline(unsigned int seed, double amplitude, unsigned int meshSize = 7, bool zeroBoundary = false)
 {
   auto                                bspline = BSplineType::New();
   BSplineType::OriginType             origin;
@@ -59,6 +64,26 @@ MakeRandomBSpline(unsigned int seed, double amplitude, unsigned int meshSize = 7
   for (unsigned int i = 0; i < parameters.size(); ++i)
   {
     parameters[i] = amplitude * spacing * random->GetUniformVariate(-1.0, 1.0);
+  }
+  if (zeroBoundary)
+  {
+    // Parameters are stored component by component, each a control grid in x-fastest order.
+    const unsigned int perAxis = meshSize + 3;
+    const unsigned int perComponent = perAxis * perAxis * perAxis;
+    const auto         touchesBoundary = [meshSize](unsigned int index) { return index < 3 || index >= meshSize; };
+    for (unsigned int k = 0; k < perComponent; ++k)
+    {
+      const unsigned int x = k % perAxis;
+      const unsigned int y = (k / perAxis) % perAxis;
+      const unsigned int z = k / (perAxis * perAxis);
+      if (touchesBoundary(x) || touchesBoundary(y) || touchesBoundary(z))
+      {
+        for (unsigned int d = 0; d < Dimension; ++d)
+        {
+          parameters[k + d * perComponent] = 0.0;
+        }
+      }
+    }
   }
   bspline->SetParameters(parameters);
   return bspline;
@@ -446,7 +471,38 @@ itkApplyTransformToMeshFilterTest(int argc, char * argv[])
     ITK_TEST_EXPECT_TRUE(maximumChainDifference < 1e-6);
   }
 
-  // Inverse round trip with random B-spline deformations (displacements up to 0.4 x spacing).
+  // Inverse round trip with random B-spline deformations (displacements up to 0.4 x spacing), the issue's
+  // requirement: uniform random points over the whole domain, B-splines whose displacement is zero on the domain's
+  // boundary (so every point of the domain has a preimage): all converged points within 1e-5 mm, >= 99.9 %
+  // converged.
+  for (unsigned int seed = 1; seed <= 3; ++seed)
+  {
+    const auto bspline = MakeRandomBSpline(seed, 0.4, 10, true);
+    // Not a trivial deformation: the free control points (7 per axis, spacing 10 mm) move by up to 0.4 x 10 mm per
+    // component.
+    ITK_TEST_EXPECT_TRUE(MaximumDisplacement(bspline) > 4.0);
+    {
+      // The boundary is fixed: points on two faces (other coordinates anywhere) do not move.
+      MeshType::PointType onFace;
+      onFace[0] = 0.0;
+      onFace[1] = 37.0 + seed;
+      onFace[2] = 61.5;
+      ITK_TEST_EXPECT_TRUE(bspline->TransformPoint(onFace).EuclideanDistanceTo(onFace) < 1e-12);
+      onFace[0] = 43.25;
+      onFace[2] = 100.0 - 1e-9;
+      ITK_TEST_EXPECT_TRUE(bspline->TransformPoint(onFace).EuclideanDistanceTo(onFace) < 1e-8);
+    }
+    const auto        points = MakeRandomPointMesh(200 + seed, 10000, 0.0);
+    const std::string label = "B-spline with fixed boundary, whole domain, seed " + std::to_string(seed);
+    if (!CheckInverseRoundTrip(bspline, points, 1e-5, 0.999, label.c_str(), 0.0))
+    {
+      testStatus = EXIT_FAILURE;
+    }
+  }
+
+  // The general case: ITK's B-spline moves the domain's boundary, so points closer to it than the largest
+  // displacement may have no preimage. Reported over the whole domain (a figure, typically 96-97 %); checked
+  // (>= 99.9 %) for the points farther inside than the largest control displacement.
   for (unsigned int seed = 1; seed <= 3; ++seed)
   {
     const auto        bspline = MakeRandomBSpline(seed, 0.4);
