@@ -18,16 +18,19 @@
 #ifndef FFDProgramMeshIO_h
 #define FFDProgramMeshIO_h
 
-// Mesh reading and writing shared by the module's command-line programs (ffd-match, ffd-benchmark-tool): every
-// refusal is one line naming the file and the problem, thrown as the program's own error type.
+// Mesh reading, writing and normalization shared by the module's command-line programs (ffd-match and the benchmark
+// programs): every refusal is one line naming the file and the problem, thrown as the program's own error type.
 
 #include "FFDProgramSupport.h"
 #include "itkMeshFileReader.h"
 #include "itkMeshFileWriter.h"
+#include "itkTriangleCell.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <system_error>
 
@@ -108,6 +111,72 @@ WriteMeshFile(const TMesh * mesh, const std::string & fileName, const std::strin
   {
     throw TError("cannot write mesh '" + shownName + "': " + OneLine(error.GetDescription()));
   }
+}
+/** Where ScaledTriangleCopy puts the bounding box of the mesh. */
+enum class MeshPlacement
+{
+  LowerCornerAtOrigin, //!< the box starts at the origin (the benchmark's cases)
+  CentreAtOrigin       //!< the box is centred on the origin
+};
+
+/** A copy of \c mesh scaled so the largest side of its bounding box is \c side (unscaled when \c side <= 0),
+ * placed as \c placement says, with every polygon of 3 or more points split into a fan of triangles (other cells
+ * are dropped). Point ids are kept. */
+template <typename TMesh>
+typename TMesh::Pointer
+ScaledTriangleCopy(const TMesh * mesh, double side, MeshPlacement placement)
+{
+  constexpr unsigned int Dimension = TMesh::PointDimension;
+  double                 lower[Dimension];
+  double                 upper[Dimension];
+  std::fill(lower, lower + Dimension, std::numeric_limits<double>::infinity());
+  std::fill(upper, upper + Dimension, -std::numeric_limits<double>::infinity());
+  for (auto it = mesh->GetPoints()->Begin(); it != mesh->GetPoints()->End(); ++it)
+  {
+    for (unsigned int k = 0; k < Dimension; ++k)
+    {
+      lower[k] = std::min(lower[k], static_cast<double>(it.Value()[k]));
+      upper[k] = std::max(upper[k], static_cast<double>(it.Value()[k]));
+    }
+  }
+  double largest = 0.0;
+  double anchor[Dimension];
+  for (unsigned int k = 0; k < Dimension; ++k)
+  {
+    largest = std::max(largest, upper[k] - lower[k]);
+    anchor[k] = placement == MeshPlacement::CentreAtOrigin ? 0.5 * (lower[k] + upper[k]) : lower[k];
+  }
+  const double scale = side > 0.0 && largest > 0.0 ? side / largest : 1.0;
+  auto         result = TMesh::New();
+  for (auto it = mesh->GetPoints()->Begin(); it != mesh->GetPoints()->End(); ++it)
+  {
+    typename TMesh::PointType point;
+    for (unsigned int k = 0; k < Dimension; ++k)
+    {
+      point[k] = (it.Value()[k] - anchor[k]) * scale;
+    }
+    result->SetPoint(it.Index(), point);
+  }
+  typename TMesh::CellIdentifier cellId = 0;
+  for (auto it = mesh->GetCells()->Begin(); it != mesh->GetCells()->End(); ++it)
+  {
+    const auto * cell = it.Value();
+    if (cell->GetDimension() != 2 || cell->GetNumberOfPoints() < 3)
+    {
+      continue;
+    }
+    const auto * ids = cell->PointIdsBegin();
+    for (unsigned int i = 1; i + 1 < cell->GetNumberOfPoints(); ++i)
+    {
+      typename TMesh::CellAutoPointer triangle;
+      triangle.TakeOwnership(new itk::TriangleCell<typename TMesh::CellType>);
+      triangle->SetPointId(0, ids[0]);
+      triangle->SetPointId(1, ids[i]);
+      triangle->SetPointId(2, ids[i + 1]);
+      result->SetCell(cellId++, triangle);
+    }
+  }
+  return result;
 }
 } // namespace ffd
 

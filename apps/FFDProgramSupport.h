@@ -113,6 +113,19 @@ JsonString(const std::string & text)
   out << '"';
   return out.str();
 }
+/** A number in JSON: 10 significant digits; non-finite values become null. */
+inline std::string
+JsonNumber(double value)
+{
+  if (!std::isfinite(value))
+  {
+    return "null";
+  }
+  std::ostringstream out;
+  out.precision(10);
+  out << value;
+  return out.str();
+}
 } // namespace ffd
 
 #endif // FFDProgramSupport_h

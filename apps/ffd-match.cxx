@@ -79,6 +79,7 @@ using CorrespondenceErrorType = itk::PointCorrespondenceErrorCalculator<MeshType
 using JacobianFilterType = itk::TransformToJacobianDeterminantImageFilter<ImageType>;
 using ModeEnum = itk::TriangleMeshToVoxelImageFilterEnums::Mode;
 using ffd::ClockType;
+using ffd::JsonNumber;
 using ffd::JsonString;
 using ffd::OneLine;
 using ffd::SecondsSince;
@@ -377,20 +378,6 @@ ParseArguments(int argc, char * argv[])
                 options.output + "'");
   }
   return options;
-}
-
-// A number in JSON (non-finite values become null).
-std::string
-JsonNumber(double value)
-{
-  if (!std::isfinite(value))
-  {
-    return "null";
-  }
-  std::ostringstream out;
-  out.precision(10);
-  out << value;
-  return out.str();
 }
 
 /** Outputs written under temporary names in their own folders and renamed into place by Commit(). */

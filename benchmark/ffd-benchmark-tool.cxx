@@ -180,19 +180,6 @@ NumberOr(const ArgumentMap & options, const std::string & name, double fallback)
   return found == options.end() ? fallback : ffd::ParseNumber<Error>(name, found->second);
 }
 
-std::string
-JsonNumber(double value)
-{
-  if (!std::isfinite(value))
-  {
-    return "null";
-  }
-  std::ostringstream out;
-  out.precision(10);
-  out << value;
-  return out.str();
-}
-
 MeshType::Pointer
 ReadMesh(const std::string & fileName, const std::string & role)
 {
@@ -520,15 +507,15 @@ RunCase(const ArgumentMap & options)
        << ",\n  \"noise\": "
        << (regime == "paper"
              ? "{ \"type\": \"ClippedGaussian\", \"sigma\": 1, \"clip\": 1 }"
-             : "{ \"type\": \"SmoothedGaussian\", \"smoothing_sigma\": 2.5, \"rms_control\": " + JsonNumber(rms) + " }")
-       << ",\n  \"min_jacobian_determinant\": " << JsonNumber(generator->GetMinimumJacobianDeterminant())
-       << ",\n  \"max_jacobian_determinant\": " << JsonNumber(generator->GetMaximumJacobianDeterminant())
+             : "{ \"type\": \"SmoothedGaussian\", \"smoothing_sigma\": 2.5, \"rms_control\": " + ffd::JsonNumber(rms) + " }")
+       << ",\n  \"min_jacobian_determinant\": " << ffd::JsonNumber(generator->GetMinimumJacobianDeterminant())
+       << ",\n  \"max_jacobian_determinant\": " << ffd::JsonNumber(generator->GetMaximumJacobianDeterminant())
        << ",\n  \"region_low\": [" << regionLow[0] << ", " << regionLow[1] << ", " << regionLow[2] << "]"
        << ",\n  \"region_high\": [" << regionHigh[0] << ", " << regionHigh[1] << ", " << regionHigh[2] << "]"
        << ",\n  \"source_vertices\": " << sourcePoints.size() << ",\n  \"source_triangles\": " << sourceTriangles.size()
        << ",\n  \"target_vertices\": " << targetPoints.size() << ",\n  \"target_triangles\": " << targetTriangles.size()
-       << ",\n  \"vertex_displacement_rms\": " << JsonNumber(std::sqrt(sum2 / targetPoints.size()))
-       << ",\n  \"vertex_displacement_max\": " << JsonNumber(maximum) << "\n}\n";
+       << ",\n  \"vertex_displacement_rms\": " << ffd::JsonNumber(std::sqrt(sum2 / targetPoints.size()))
+       << ",\n  \"vertex_displacement_max\": " << ffd::JsonNumber(maximum) << "\n}\n";
   WriteText(truthDir + "case.json", json.str());
   std::cout << "ffd-benchmark-tool: case " << regime << " seed " << seed << ": source " << sourcePoints.size()
             << " vertices, target " << targetPoints.size() << " vertices, vertex displacement RMS "
@@ -580,7 +567,7 @@ RunApplyField(const ArgumentMap & options)
   {
     WriteText(report->second,
               "{ \"non_converged_inverse_vertices\": " + std::to_string(apply->GetNumberOfNonConvergedPoints()) +
-                ", \"max_inverse_residual\": " + JsonNumber(apply->GetMaximumInverseResidual()) + " }\n");
+                ", \"max_inverse_residual\": " + ffd::JsonNumber(apply->GetMaximumInverseResidual()) + " }\n");
   }
   std::cout << "ffd-benchmark-tool: apply-field: wrote " << output << " (" << apply->GetNumberOfNonConvergedPoints()
             << " non-converged inverse vertices)" << std::endl;
@@ -743,17 +730,17 @@ RunScore(const ArgumentMap & options)
   }
 
   std::ostringstream json;
-  json << "{\n  \"true_error\": { \"mean\": " << JsonNumber(trueError->GetMeanError())
-       << ", \"median\": " << JsonNumber(trueError->GetMedianError())
-       << ", \"p95\": " << JsonNumber(trueError->GetPercentile95Error())
-       << ", \"max\": " << JsonNumber(trueError->GetMaximumError())
-       << ", \"rms\": " << JsonNumber(trueError->GetRootMeanSquareError()) << " },\n"
+  json << "{\n  \"true_error\": { \"mean\": " << ffd::JsonNumber(trueError->GetMeanError())
+       << ", \"median\": " << ffd::JsonNumber(trueError->GetMedianError())
+       << ", \"p95\": " << ffd::JsonNumber(trueError->GetPercentile95Error())
+       << ", \"max\": " << ffd::JsonNumber(trueError->GetMaximumError())
+       << ", \"rms\": " << ffd::JsonNumber(trueError->GetRootMeanSquareError()) << " },\n"
        << "  \"region_vertices\": " << correspondences.size() << ",\n"
-       << "  \"mean_directed_hausdorff\": " << JsonNumber(directed->GetMeanDistance()) << ",\n"
-       << "  \"directed_hausdorff\": " << JsonNumber(directed->GetMaximumDistance()) << ",\n"
-       << "  \"symmetric_hausdorff_region\": " << JsonNumber(symmetricHausdorff) << ",\n"
-       << "  \"min_jacobian_determinant\": " << JsonNumber(minimumDeterminant) << ",\n"
-       << "  \"max_jacobian_determinant\": " << JsonNumber(maximumDeterminant) << ",\n"
+       << "  \"mean_directed_hausdorff\": " << ffd::JsonNumber(directed->GetMeanDistance()) << ",\n"
+       << "  \"directed_hausdorff\": " << ffd::JsonNumber(directed->GetMaximumDistance()) << ",\n"
+       << "  \"symmetric_hausdorff_region\": " << ffd::JsonNumber(symmetricHausdorff) << ",\n"
+       << "  \"min_jacobian_determinant\": " << ffd::JsonNumber(minimumDeterminant) << ",\n"
+       << "  \"max_jacobian_determinant\": " << ffd::JsonNumber(maximumDeterminant) << ",\n"
        << "  \"jacobian_from\": " << JsonString(jacobianSource) << "\n}\n";
   WriteText(output, json.str());
   std::cout << "ffd-benchmark-tool: score: true error mean " << std::setprecision(4) << trueError->GetMeanError()

@@ -147,55 +147,10 @@ NumberOfTriangles(const MeshType * mesh)
   return count;
 }
 
-/** A copy of the mesh with polygons split into triangle fans, scaled so its largest side is `side` mm and its
- * bounding box starts at the origin (as ffd-benchmark-tool's cases). */
 MeshType::Pointer
 ScaledTriangles(const MeshType * mesh, double side)
 {
-  double lower[3];
-  double upper[3];
-  std::fill(lower, lower + 3, std::numeric_limits<double>::infinity());
-  std::fill(upper, upper + 3, -std::numeric_limits<double>::infinity());
-  for (auto it = mesh->GetPoints()->Begin(); it != mesh->GetPoints()->End(); ++it)
-  {
-    for (unsigned int k = 0; k < 3; ++k)
-    {
-      lower[k] = std::min(lower[k], it.Value()[k]);
-      upper[k] = std::max(upper[k], it.Value()[k]);
-    }
-  }
-  const double largest = std::max({ upper[0] - lower[0], upper[1] - lower[1], upper[2] - lower[2] });
-  const double scale = (side > 0.0 && largest > 0.0) ? side / largest : 1.0;
-  auto         result = MeshType::New();
-  for (auto it = mesh->GetPoints()->Begin(); it != mesh->GetPoints()->End(); ++it)
-  {
-    MeshType::PointType point;
-    for (unsigned int k = 0; k < 3; ++k)
-    {
-      point[k] = (it.Value()[k] - lower[k]) * scale;
-    }
-    result->SetPoint(it.Index(), point);
-  }
-  MeshType::CellIdentifier cellId = 0;
-  for (auto it = mesh->GetCells()->Begin(); it != mesh->GetCells()->End(); ++it)
-  {
-    const auto * cell = it.Value();
-    if (cell->GetDimension() != 2 || cell->GetNumberOfPoints() < 3)
-    {
-      continue;
-    }
-    const auto * ids = cell->PointIdsBegin();
-    for (unsigned int i = 1; i + 1 < cell->GetNumberOfPoints(); ++i)
-    {
-      MeshType::CellAutoPointer triangle;
-      triangle.TakeOwnership(new itk::TriangleCell<MeshType::CellType>);
-      triangle->SetPointId(0, ids[0]);
-      triangle->SetPointId(1, ids[i]);
-      triangle->SetPointId(2, ids[i + 1]);
-      result->SetCell(cellId++, triangle);
-    }
-  }
-  return result;
+  return ffd::ScaledTriangleCopy(mesh, side, ffd::MeshPlacement::LowerCornerAtOrigin);
 }
 
 /** The mesh of a file, or the generated sphere when --sphere is given; scaled. */
@@ -241,19 +196,6 @@ GrownBounds(const MeshType * mesh, double margin, GeneratorType::PointType & low
   }
 }
 
-std::string
-Number(double value)
-{
-  if (!std::isfinite(value))
-  {
-    return "null";
-  }
-  std::ostringstream out;
-  out.precision(10);
-  out << value;
-  return out.str();
-}
-
 struct ThreadTime
 {
   int    threads{ 1 };
@@ -268,8 +210,8 @@ ThreadTimesJson(const std::vector<ThreadTime> & times)
   out << "[";
   for (std::size_t i = 0; i < times.size(); ++i)
   {
-    out << (i ? ", " : "") << "{\"threads\": " << times[i].threads << ", \"seconds\": " << Number(times[i].seconds)
-        << ", \"cpu_seconds\": " << Number(times[i].cpuSeconds) << "}";
+    out << (i ? ", " : "") << "{\"threads\": " << times[i].threads << ", \"seconds\": " << ffd::JsonNumber(times[i].seconds)
+        << ", \"cpu_seconds\": " << ffd::JsonNumber(times[i].cpuSeconds) << "}";
   }
   out << "]";
   return out.str();
@@ -366,20 +308,20 @@ RunInverse(const Options & options, std::ostringstream & json)
 
   json << "\"inverse\": {\"mesh\": " << ffd::JsonString(options.inverseMesh)
        << ", \"vertices\": " << mesh->GetNumberOfPoints() << ", \"triangles\": " << NumberOfTriangles(mesh)
-       << ", \"scale_to_mm\": " << Number(options.scaleTo) << ", \"grid\": " << options.grid
-       << ", \"control_spacing_mm\": " << Number(spacing) << ", \"margin_mm\": " << Number(options.margin)
-       << ", \"sigma_mm\": " << Number(options.sigma) << ", \"clip_mm\": " << Number(options.clip)
+       << ", \"scale_to_mm\": " << ffd::JsonNumber(options.scaleTo) << ", \"grid\": " << options.grid
+       << ", \"control_spacing_mm\": " << ffd::JsonNumber(spacing) << ", \"margin_mm\": " << ffd::JsonNumber(options.margin)
+       << ", \"sigma_mm\": " << ffd::JsonNumber(options.sigma) << ", \"clip_mm\": " << ffd::JsonNumber(options.clip)
        << ", \"seed\": " << options.seed
-       << ", \"min_jacobian_determinant\": " << Number(generator->GetMinimumJacobianDeterminant())
-       << ", \"tolerance_mm\": " << Number(filter->GetInverseTolerance())
+       << ", \"min_jacobian_determinant\": " << ffd::JsonNumber(generator->GetMinimumJacobianDeterminant())
+       << ", \"tolerance_mm\": " << ffd::JsonNumber(filter->GetInverseTolerance())
        << ", \"max_iterations\": " << filter->GetMaximumNumberOfInverseIterations()
        << ", \"times\": " << ThreadTimesJson(times) << ", \"converged\": " << numberConverged
-       << ", \"converged_percent\": " << Number(percent)
+       << ", \"converged_percent\": " << ffd::JsonNumber(percent)
        << ", \"non_converged\": " << filter->GetNumberOfNonConvergedPoints()
-       << ", \"max_round_trip_error_converged_mm\": " << Number(maximumConverged)
-       << ", \"mean_round_trip_error_converged_mm\": " << Number(sumConverged / std::max<double>(1, numberConverged))
-       << ", \"max_round_trip_error_all_mm\": " << Number(maximumAll)
-       << ", \"max_vertex_displacement_mm\": " << Number(maximumDisplacement)
+       << ", \"max_round_trip_error_converged_mm\": " << ffd::JsonNumber(maximumConverged)
+       << ", \"mean_round_trip_error_converged_mm\": " << ffd::JsonNumber(sumConverged / std::max<double>(1, numberConverged))
+       << ", \"max_round_trip_error_all_mm\": " << ffd::JsonNumber(maximumAll)
+       << ", \"max_vertex_displacement_mm\": " << ffd::JsonNumber(maximumDisplacement)
        << ", \"same_result_for_all_thread_counts\": " << (sameAcrossThreads ? "true" : "false") << "}";
 
   bool ok = true;
@@ -539,16 +481,16 @@ RunDistances(const Options & options, std::ostringstream & json)
 
   json << "\"distances\": {\"mesh\": " << ffd::JsonString(options.distanceMesh)
        << ", \"vertices\": " << meshA->GetNumberOfPoints() << ", \"triangles\": " << NumberOfTriangles(meshA)
-       << ", \"deform_rms_mm\": " << Number(options.deformRMS)
-       << ", \"deform_min_jacobian_determinant\": " << Number(generator->GetMinimumJacobianDeterminant())
-       << ", \"module_times\": " << ThreadTimesJson(moduleTimes) << ", \"vtk_seconds\": " << Number(vtkSeconds)
-       << ", \"vtk_cpu_seconds\": " << Number(vtkCPUSeconds) << ", \"module_hausdorff_mm\": " << Number(moduleHausdorff)
-       << ", \"module_directed_hausdorff_mm\": [" << Number(moduleHausdorffAB) << ", " << Number(moduleHausdorffBA)
-       << "], \"module_mean_mm\": [" << Number(Mean(moduleAB)) << ", " << Number(Mean(moduleBA))
-       << "], \"vtk_hausdorff_mm\": " << Number(vtkHausdorff) << ", \"vtk_relative_distance_mm\": ["
-       << Number(vtkRelative[0]) << ", " << Number(vtkRelative[1]) << "], \"vtk_mean_mm\": [" << Number(Mean(vtkAB))
-       << ", " << Number(Mean(vtkBA)) << "], \"max_vertex_difference_mm\": [" << Number(differenceAB) << ", "
-       << Number(differenceBA) << "], \"max_hausdorff_difference_mm\": " << Number(differenceHausdorff) << "}";
+       << ", \"deform_rms_mm\": " << ffd::JsonNumber(options.deformRMS)
+       << ", \"deform_min_jacobian_determinant\": " << ffd::JsonNumber(generator->GetMinimumJacobianDeterminant())
+       << ", \"module_times\": " << ThreadTimesJson(moduleTimes) << ", \"vtk_seconds\": " << ffd::JsonNumber(vtkSeconds)
+       << ", \"vtk_cpu_seconds\": " << ffd::JsonNumber(vtkCPUSeconds) << ", \"module_hausdorff_mm\": " << ffd::JsonNumber(moduleHausdorff)
+       << ", \"module_directed_hausdorff_mm\": [" << ffd::JsonNumber(moduleHausdorffAB) << ", " << ffd::JsonNumber(moduleHausdorffBA)
+       << "], \"module_mean_mm\": [" << ffd::JsonNumber(Mean(moduleAB)) << ", " << ffd::JsonNumber(Mean(moduleBA))
+       << "], \"vtk_hausdorff_mm\": " << ffd::JsonNumber(vtkHausdorff) << ", \"vtk_relative_distance_mm\": ["
+       << ffd::JsonNumber(vtkRelative[0]) << ", " << ffd::JsonNumber(vtkRelative[1]) << "], \"vtk_mean_mm\": [" << ffd::JsonNumber(Mean(vtkAB))
+       << ", " << ffd::JsonNumber(Mean(vtkBA)) << "], \"max_vertex_difference_mm\": [" << ffd::JsonNumber(differenceAB) << ", "
+       << ffd::JsonNumber(differenceBA) << "], \"max_hausdorff_difference_mm\": " << ffd::JsonNumber(differenceHausdorff) << "}";
 
   if (!(std::max(differenceAB, differenceBA) < 1e-6) || !(differenceHausdorff < 1e-6))
   {

@@ -133,11 +133,16 @@ operator<<(std::ostream & out, const TriangleMeshToVoxelImageFilterEnums::Mode v
  *   prediction cannot decide split the run, down to single voxels, so the decision is the one the
  *   per-voxel winding number gives. Cost: about one winding number per row of a closed mesh's ties,
  *   more near an open mesh's boundary curve.
- * - Occupancy, BandMask and the banded SignedDistance: per row, the triangles within reach across the row
+ * - Occupancy and BandMask: triangle by triangle (GenerateReachByTriangles()); each triangle whose bounding
+ *   box grown by the reach meets the requested region visits the voxels of that box, on each row only those
+ *   within the slab |distance to its plane| <= reach, skips voxels already marked, and marks a voxel when
+ *   the exact point-to-triangle distance is within reach (the per-voxel test, so the result does not depend
+ *   on the order of the triangles). Cost: proportional to the surface area in voxels, not to the grid.
+ * - The banded SignedDistance: per row, the triangles within reach across the row
  *   are ordered by their distance across it; a voxel computes the exact point-to-triangle distance only
  *   for the triangles whose lower bound (across-row distance combined with the gap along the row) can
- *   improve its best, and voxels out of reach of every triangle are not visited. Needs an orthonormal
- *   direction (otherwise these modes run per voxel).
+ *   improve its best, and voxels out of reach of every triangle are not visited.
+ * - These three modes need an orthonormal direction (otherwise they run per voxel).
  * - The exact SignedDistance (ExactDistance On) queries the bounding-volume hierarchy per voxel, bounded
  *   by the previous voxel's distance plus the step.
  * - WindingNumber is per voxel.
@@ -375,6 +380,13 @@ private:
   void
   GenerateByScanLines(const OutputImageRegionType & region);
 
+  /** Occupancy and band mask with the scan-line acceleration: triangle by triangle, every triangle of the
+   * requested region marks the voxels of the region, within its bounding box grown by the reach distance,
+   * whose centre lies within that distance of it (the same exact point-to-triangle test as the per-voxel
+   * path, so the image does not depend on the order, the threads or the streamed pieces). */
+  void
+  GenerateReachByTriangles(const OutputImageRegionType & region);
+
   /** Inside flags of voxels first, ..., first + inside.size() - 1 of the row (j, k). */
   void
   ComputeRowInside(long first, long j, long k, std::vector<char> & inside) const;
@@ -431,6 +443,7 @@ private:
   detail::ScanLineTriangleBins            m_CrossingBins{};
   detail::ScanLineTriangleBins            m_ReachBins{};
   std::array<double, 3>                   m_ReachMargin{ { 0.0, 0.0, 0.0 } };
+  std::vector<std::uint32_t>              m_RegionTriangles{}; // Reaching the requested region (occupancy, band).
   int                                     m_OrientationSign{ 1 };
 };
 } // namespace itk

@@ -171,11 +171,12 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::PrintSelf(std::ostream
   os << indent << "HierarchyIsCurrent: " << (m_HierarchyIsCurrent ? "On" : "Off") << std::endl;
   os << indent << "EffectiveOccupancyDistance: " << m_EffectiveOccupancyDistance << std::endl;
   os << indent << "EffectiveBandWidth: " << m_EffectiveBandWidth << std::endl;
-  os << indent << "Edges with a net current (open or inconsistent surface): " << m_GradientBound.GetNumberOfEdges()
-     << std::endl;
+  os << indent << "Edges with a net current (open or inconsistent surface; found in the modes deciding inside): "
+     << m_GradientBound.GetNumberOfEdges() << std::endl;
   os << indent << "IndexTriangles: " << m_IndexTriangles.size() << std::endl;
   os << indent << "CrossingBins entries: " << m_CrossingBins.GetNumberOfEntries() << std::endl;
   os << indent << "ReachBins entries: " << m_ReachBins.GetNumberOfEntries() << std::endl;
+  os << indent << "RegionTriangles: " << m_RegionTriangles.size() << std::endl;
   os << indent << "ReachMargin: " << m_ReachMargin[0] << ' ' << m_ReachMargin[1] << ' ' << m_ReachMargin[2]
      << std::endl;
   os << indent << "OrientationSign: " << m_OrientationSign << std::endl;
@@ -422,6 +423,32 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::PrepareScanLines()
     {
       m_ReachMargin[k] = (reachDistance * (1.0 + 1e-9) + 1e-9) * rowNorm[k] * (1.0 + 1e-9) + 1e-9;
     }
+  }
+  m_RegionTriangles.clear();
+  if (reachDistance >= 0.0 && m_Mode != ModeEnum::SignedDistance)
+  {
+    // Occupancy and band mask go triangle by triangle (GenerateReachByTriangles()): the triangles whose
+    // grown bounding box meets the requested region.
+    for (size_t t = 0; t < m_IndexTriangles.size(); ++t)
+    {
+      const detail::IndexSpaceTriangle & triangle = m_IndexTriangles[t];
+      bool                               meets = true;
+      for (unsigned int d = 0; d < 3 && meets; ++d)
+      {
+        const double first = static_cast<double>(region.GetIndex(d));
+        const double last = first + static_cast<double>(region.GetSize(d)) - 1.0;
+        meets = std::ceil(triangle.lower[d] - m_ReachMargin[d]) <= last &&
+                std::floor(triangle.upper[d] + m_ReachMargin[d]) >= first;
+      }
+      if (meets)
+      {
+        m_RegionTriangles.push_back(static_cast<std::uint32_t>(t));
+      }
+    }
+    m_ReachBins.Build(std::vector<detail::IndexSpaceTriangle>{}, j0, j1, k0, k1, 0.0, 0.0);
+  }
+  else if (reachDistance >= 0.0)
+  {
     m_ReachBins.Build(m_IndexTriangles, j0, j1, k0, k1, m_ReachMargin[1], m_ReachMargin[2]);
   }
   else
@@ -465,11 +492,14 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::BuildTriangleHierarchy
   }
 
   // Points with the same coordinates share one vertex number, so that the net current of an edge
-  // (WindingNumberGradientBound) is found by vertex numbers even in a triangle soup.
+  // (WindingNumberGradientBound) is found by vertex numbers even in a triangle soup. Only the modes that
+  // decide inside/outside need it (occupancy and the band mask are distances only).
+  const bool needInside = m_Mode == ModeEnum::Solid || m_Mode == ModeEnum::WindingNumber ||
+                          (m_Mode == ModeEnum::SignedDistance && !m_UnsignedDistance);
   std::vector<std::pair<VectorType, typename InputMeshType::PointIdentifier>> sortedPoints;
-  sortedPoints.reserve(points->Size());
+  sortedPoints.reserve(needInside ? points->Size() : 0);
   typename InputMeshType::PointIdentifier largestId = 0;
-  for (auto it = points->Begin(); it != points->End(); ++it)
+  for (auto it = points->Begin(); it != points->End() && needInside; ++it)
   {
     const auto & p = it.Value();
     sortedPoints.emplace_back(
@@ -503,7 +533,7 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::BuildTriangleHierarchy
   std::vector<TriangleType> triangles;
   triangles.reserve(cells->Size());
   std::vector<std::array<std::uint32_t, 3>> corners;
-  corners.reserve(cells->Size());
+  corners.reserve(needInside ? cells->Size() : 0);
   SizeValueType numberOfDegenerate = 0;
   const auto    toVector = [points, this](typename InputMeshType::PointIdentifier id, SizeValueType cellId) {
     if (!points->IndexExists(id))
@@ -556,7 +586,10 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::BuildTriangleHierarchy
         continue;
       }
       triangles.push_back(triangle);
-      corners.push_back({ { vertexOf(ids[0]), vertexOf(ids[i]), vertexOf(ids[i + 1]) } });
+      if (needInside)
+      {
+        corners.push_back({ { vertexOf(ids[0]), vertexOf(ids[i]), vertexOf(ids[i + 1]) } });
+      }
     }
   }
   m_NumberOfDegenerateTriangles = numberOfDegenerate;
@@ -566,7 +599,7 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::BuildTriangleHierarchy
     itkExceptionMacro("The input mesh has no triangle cells"
                       << (numberOfDegenerate > 0 ? " of non-zero area (all are degenerate)." : "."));
   }
-  m_GradientBound.Build(triangles, corners);
+  m_GradientBound.Build(needInside ? triangles : std::vector<TriangleType>{}, corners);
   m_Triangles = std::move(triangles);
   // Built on first use (GetHierarchy()): a closed surface's solid needs it only for voxels on the surface.
   m_HierarchyBuilt = false;
@@ -611,7 +644,11 @@ void
 TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::DynamicThreadedGenerateData(
   const OutputImageRegionType & outputRegionForThread)
 {
-  if (this->UsesScanLines())
+  if (this->UsesScanLines() && (m_Mode == ModeEnum::Occupancy || m_Mode == ModeEnum::BandMask))
+  {
+    this->GenerateReachByTriangles(outputRegionForThread);
+  }
+  else if (this->UsesScanLines())
   {
     this->GenerateByScanLines(outputRegionForThread);
   }
@@ -885,6 +922,180 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::ComputeRowInside(long 
       ranges.emplace_back(rightFirst, rightLast);
     }
   }
+}
+
+template <typename TInputMesh, typename TOutputImage>
+void
+TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::GenerateReachByTriangles(const OutputImageRegionType & region)
+{
+  using VectorType = detail::TriangleBoundingVolumeHierarchy::VectorType;
+  OutputImageType *     output = this->GetOutput();
+  TotalProgressReporter progress(this, output->GetRequestedRegion().GetNumberOfPixels());
+  const SizeValueType   numberOfPixels = region.GetNumberOfPixels();
+
+  // Outside everywhere first; a triangle then marks the voxels within reach. A voxel already marked is
+  // skipped: it is inside whichever triangle marked it, so the order of the triangles does not matter.
+  OutputPixelType * buffer = output->GetBufferPointer();
+  long              from[3], to[3];
+  for (unsigned int d = 0; d < 3; ++d)
+  {
+    from[d] = region.GetIndex(d);
+    to[d] = from[d] + static_cast<long>(region.GetSize(d)) - 1;
+  }
+  typename OutputImageType::IndexType index;
+  for (index[2] = from[2]; index[2] <= to[2]; ++index[2])
+  {
+    for (index[1] = from[1]; index[1] <= to[1]; ++index[1])
+    {
+      index[0] = from[0];
+      std::fill_n(buffer + output->ComputeOffset(index), region.GetSize(0), m_OutsideValue);
+    }
+  }
+  progress.Completed(numberOfPixels / 2);
+  if (m_InsideValue == m_OutsideValue)
+  {
+    progress.Completed(numberOfPixels - numberOfPixels / 2);
+    return;
+  }
+
+  const double          radius = m_Mode == ModeEnum::Occupancy ? m_EffectiveOccupancyDistance : m_EffectiveBandWidth;
+  const double          radiusSquared = radius * radius;
+  const SpacingType &   spacing = output->GetSpacing();
+  const double          unit = std::min({ spacing[0], spacing[1], spacing[2] });
+  const double          limit = radiusSquared * (1.0 + 1e-9) + 1e-9 * unit * unit;
+  const OffsetValueType rowStride = output->GetOffsetTable()[1];
+  const OffsetValueType sliceStride = output->GetOffsetTable()[2];
+  const OutputPixelType insideValue = m_InsideValue;
+  // Voxel centres are computed as ImageBase::TransformIndexToPhysicalPoint() computes them (the same
+  // operations in the same order on the same index-to-physical matrix, direction * diag(spacing), so the
+  // same doubles as the per-voxel path), from local copies.
+  double matrix[3][3];
+  for (unsigned int r = 0; r < 3; ++r)
+  {
+    for (unsigned int c = 0; c < 3; ++c)
+    {
+      matrix[r][c] = output->GetDirection()[r][c] * spacing[c];
+    }
+  }
+  const double o0 = output->GetOrigin()[0];
+  const double o1 = output->GetOrigin()[1];
+  const double o2 = output->GetOrigin()[2];
+  const double m00 = matrix[0][0], m01 = matrix[0][1], m02 = matrix[0][2];
+  const double m10 = matrix[1][0], m11 = matrix[1][1], m12 = matrix[1][2];
+  const double m20 = matrix[2][0], m21 = matrix[2][1], m22 = matrix[2][2];
+  const auto   centre = [=](long i0, long i1, long i2) {
+    const double x0 = static_cast<double>(i0);
+    const double x1 = static_cast<double>(i1);
+    const double x2 = static_cast<double>(i2);
+    double       p0 = o0;
+    p0 += m00 * x0;
+    p0 += m01 * x1;
+    p0 += m02 * x2;
+    double p1 = o1;
+    p1 += m10 * x0;
+    p1 += m11 * x1;
+    p1 += m12 * x2;
+    double p2 = o2;
+    p2 += m20 * x0;
+    p2 += m21 * x1;
+    p2 += m22 * x2;
+    return VectorType{ p0, p1, p2 };
+  };
+  // Slab half-width: the voxels of a row farther than this from a triangle's plane are skipped; it exceeds
+  // the reach by far more than rounding (the exact test decides the voxels inside it).
+  const double slab = std::sqrt(limit) * (1.0 + 1e-6) + 1e-6 * unit;
+  VectorType   closest;
+  for (const std::uint32_t t : m_RegionTriangles)
+  {
+    const detail::IndexSpaceTriangle & box = m_IndexTriangles[t];
+    long                               lower[3], upper[3];
+    bool                               empty = false;
+    for (unsigned int d = 0; d < 3; ++d)
+    {
+      lower[d] = std::max(from[d], static_cast<long>(std::ceil(box.lower[d] - m_ReachMargin[d])));
+      upper[d] = std::min(to[d], static_cast<long>(std::floor(box.upper[d] + m_ReachMargin[d])));
+      empty = empty || lower[d] > upper[d];
+    }
+    if (empty)
+    {
+      continue;
+    }
+    // The distance to the triangle's plane is a lower bound of the distance to the triangle; it is linear
+    // in the index: start of the box + slope per step along a row + the changes per row and per slice.
+    const auto & triangle = m_Triangles[t];
+    double       ab[3], ac[3];
+    for (unsigned int d = 0; d < 3; ++d)
+    {
+      ab[d] = triangle.b[d] - triangle.a[d];
+      ac[d] = triangle.c[d] - triangle.a[d];
+    }
+    double normal[3] = { ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2], ab[0] * ac[1] - ab[1] * ac[0] };
+    const double normalLength = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
+    for (double & component : normal)
+    {
+      component = normalLength > 0.0 ? component / normalLength : 0.0;
+    }
+    const double      n0 = normal[0], n1 = normal[1], n2 = normal[2];
+    const double      a0 = triangle.a[0], a1 = triangle.a[1], a2 = triangle.a[2];
+    const VectorType  corner = centre(lower[0], lower[1], lower[2]);
+    const double      base = n0 * (corner[0] - a0) + n1 * (corner[1] - a1) + n2 * (corner[2] - a2);
+    const double      slope = n0 * m00 + n1 * m10 + n2 * m20;
+    const double      perRow = n0 * m01 + n1 * m11 + n2 * m21;
+    const double      perSlice = n0 * m02 + n1 * m12 + n2 * m22;
+    const double      span = static_cast<double>(upper[0] - lower[0]);
+    const bool        flat = std::abs(slope) * (span + 1.0) <= 1e-9 * unit;
+    const double      inverseSlope = flat ? 0.0 : 1.0 / slope;
+    OutputPixelType * slice = buffer + output->ComputeOffset({ { lower[0], lower[1], lower[2] } });
+    for (long k = lower[2]; k <= upper[2]; ++k, slice += sliceStride)
+    {
+      OutputPixelType * row = slice;
+      for (long j = lower[1]; j <= upper[1]; ++j, row += rowStride)
+      {
+        const double start =
+          base + perRow * static_cast<double>(j - lower[1]) + perSlice * static_cast<double>(k - lower[2]);
+        double first = 0.0;
+        double last = span;
+        if (flat)
+        {
+          if (std::abs(start) > slab + std::abs(slope) * (span + 1.0))
+          {
+            continue;
+          }
+        }
+        else
+        {
+          double t1 = (-slab - start) * inverseSlope;
+          double t2 = (slab - start) * inverseSlope;
+          if (t1 > t2)
+          {
+            std::swap(t1, t2);
+          }
+          first = std::max(first, std::ceil(std::max(t1, -1.0) - 1e-6));
+          last = std::min(last, std::floor(std::min(t2, span + 1.0) + 1e-6));
+        }
+        const long        end = lower[0] + static_cast<long>(last);
+        OutputPixelType * pixel = row + static_cast<OffsetValueType>(first);
+        for (long i = lower[0] + static_cast<long>(first); i <= end; ++i, ++pixel)
+        {
+          if (*pixel == insideValue)
+          {
+            continue;
+          }
+          const VectorType q = centre(i, j, k);
+          const double     plane = n0 * (q[0] - a0) + n1 * (q[1] - a1) + n2 * (q[2] - a2);
+          if (plane * plane * (1.0 - 1e-9) - 1e-9 * unit * unit > limit)
+          {
+            continue;
+          }
+          if (detail::ClosestPointOnTriangle(q, triangle.a, triangle.b, triangle.c, closest) <= radiusSquared)
+          {
+            *pixel = insideValue;
+          }
+        }
+      }
+    }
+  }
+  progress.Completed(numberOfPixels - numberOfPixels / 2);
 }
 
 template <typename TInputMesh, typename TOutputImage>
