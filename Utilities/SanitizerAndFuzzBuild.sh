@@ -3,8 +3,9 @@
 # Clang, AddressSanitizer and UndefinedBehaviorSanitizer; the WHOLE test suite run under them (any report fails
 # the test that caused it); then each libFuzzer target fuzzed from its seed corpus in test/Fuzz/Corpus for
 # FUZZ_RUNS (default 20000) inputs or FUZZ_SECONDS (default 60) seconds, whichever comes first, from the random
-# seed FUZZ_SEED (default 1): with the same seed and build the same inputs are tried, so a run that passed here
-# passes in CI. A crash, hang (> 10 s per input), leak or sanitizer report fails the run and leaves the input in
+# seed FUZZ_SEED (default 1). The seed fixes libFuzzer's mutations, but not the whole run: which inputs it keeps
+# follows the coverage it measures, which varies slightly between runs, and a slower machine stops earlier. A
+# crash, hang (> 10 s per input), leak or sanitizer report fails the run and leaves the input in
 # $build_dir/fuzz-artifacts: add it to the corpus and to the bad-input matrix as a regression test once fixed
 # (test/Fuzz/Findings/README.md).
 #
