@@ -18,12 +18,8 @@
 #ifndef itkBSplineFFDImageRegistrationMethod_h
 #define itkBSplineFFDImageRegistrationMethod_h
 
-#include "itkBSplineTransform.h"
-#include "itkDataObjectDecorator.h"
+#include "itkBSplineImageRegistrationMethodBase.h"
 #include "itkFFDShapeMatchingEnums.h"
-#include "itkImage.h"
-#include "itkProcessObject.h"
-#include "itkTransform.h"
 #include <chrono>
 #include <string>
 #include <vector>
@@ -62,49 +58,31 @@ namespace itk
  * \ingroup FFDShapeMatching
  */
 template <typename TFixedImage, typename TMovingImage = TFixedImage>
-class ITK_TEMPLATE_EXPORT BSplineFFDImageRegistrationMethod : public ProcessObject
+class ITK_TEMPLATE_EXPORT BSplineFFDImageRegistrationMethod : public BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>
 {
 public:
   ITK_DISALLOW_COPY_AND_MOVE(BSplineFFDImageRegistrationMethod);
 
   using Self = BSplineFFDImageRegistrationMethod;
-  using Superclass = ProcessObject;
+  using Superclass = BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(BSplineFFDImageRegistrationMethod, ProcessObject);
+  itkTypeMacro(BSplineFFDImageRegistrationMethod, BSplineImageRegistrationMethodBase);
 
   static constexpr unsigned int ImageDimension = TFixedImage::ImageDimension;
 
-  using FixedImageType = TFixedImage;
-  using MovingImageType = TMovingImage;
-  using MaskImageType = Image<unsigned char, ImageDimension>;
-  using TransformType = Transform<double, ImageDimension, ImageDimension>;
-  using BSplineTransformType = BSplineTransform<double, ImageDimension, 3>;
-  using DecoratedTransformType = DataObjectDecorator<TransformType>;
+  using typename Superclass::BSplineTransformType;
+  using typename Superclass::DecoratedTransformType;
+  using typename Superclass::FixedImageType;
+  using typename Superclass::MaskImageType;
+  using typename Superclass::MovingImageType;
+  using typename Superclass::TransformType;
   using ImageMetricEnum = FFDShapeMatchingEnums::ImageMetric;
   using OptimizerEnum = FFDShapeMatchingEnums::Optimizer;
 
-  /** The fixed image (target). */
-  itkSetInputMacro(FixedImage, FixedImageType);
-  itkGetInputMacro(FixedImage, FixedImageType);
-
-  /** The moving image (source). */
-  itkSetInputMacro(MovingImage, MovingImageType);
-  itkGetInputMacro(MovingImage, MovingImageType);
-
-  /** Optional mask of the fixed image: the metric samples only where it is non-zero. */
-  itkSetInputMacro(FixedImageMask, MaskImageType);
-  itkGetInputMacro(FixedImageMask, MaskImageType);
-
-  /** The estimated transform, fixed space to moving space. */
-  const DecoratedTransformType *
-  GetTransformOutput() const;
-
-  /** The estimated transform itself (null before Update()). */
-  const TransformType *
-  GetTransform() const;
+  // Inputs (fixed image, moving image, fixed-image mask) and the decorated transform output: see the superclass.
 
   /** Control points per axis of the final B-spline grid (ITK mesh size N - 3). At least 4. Default: 20. */
   itkSetClampMacro(NumberOfControlPointsPerAxis, unsigned int, 4, 1000);
@@ -181,7 +159,7 @@ public:
   GetMeshSizeAtLevel(unsigned int level) const;
 
 protected:
-  BSplineFFDImageRegistrationMethod();
+  BSplineFFDImageRegistrationMethod() = default;
   ~BSplineFFDImageRegistrationMethod() override = default;
 
   void
@@ -189,9 +167,6 @@ protected:
 
   void
   GenerateData() override;
-
-  using Superclass::MakeOutput;
-  DataObjectPointer MakeOutput(DataObjectPointerArraySizeType) override;
 
   void
   PrintSelf(std::ostream & os, Indent indent) const override;

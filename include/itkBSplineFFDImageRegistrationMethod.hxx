@@ -86,46 +86,10 @@ protected:
 namespace itk
 {
 template <typename TFixedImage, typename TMovingImage>
-BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::BSplineFFDImageRegistrationMethod()
-{
-  this->SetPrimaryInputName("FixedImage");
-  this->AddRequiredInputName("MovingImage", 1);
-  this->AddOptionalInputName("FixedImageMask", 2);
-  this->SetNumberOfRequiredOutputs(1);
-  this->SetNthOutput(0, this->MakeOutput(0));
-}
-
-template <typename TFixedImage, typename TMovingImage>
-auto
-BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::MakeOutput(DataObjectPointerArraySizeType)
-  -> DataObjectPointer
-{
-  return DecoratedTransformType::New().GetPointer();
-}
-
-template <typename TFixedImage, typename TMovingImage>
-auto
-BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::GetTransformOutput() const
-  -> const DecoratedTransformType *
-{
-  return static_cast<const DecoratedTransformType *>(this->ProcessObject::GetOutput(0));
-}
-
-template <typename TFixedImage, typename TMovingImage>
-auto
-BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::GetTransform() const -> const TransformType *
-{
-  return this->GetTransformOutput()->Get();
-}
-
-template <typename TFixedImage, typename TMovingImage>
 unsigned int
 BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::GetMeshSizeAtLevel(unsigned int level) const
 {
-  const unsigned int finalMeshSize = m_NumberOfControlPointsPerAxis - 3;
-  const unsigned int coarsening = m_NumberOfLevels - 1 - std::min(level, m_NumberOfLevels - 1);
-  const double       meshSize = std::round(finalMeshSize / std::pow(2.0, coarsening));
-  return std::max(1u, static_cast<unsigned int>(meshSize));
+  return Superclass::ComputeMeshSizeAtLevel(m_NumberOfControlPointsPerAxis, m_NumberOfLevels, level);
 }
 
 template <typename TFixedImage, typename TMovingImage>
@@ -133,27 +97,7 @@ void
 BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::VerifyPreconditions() ITKv5_CONST
 {
   Superclass::VerifyPreconditions();
-  const auto * fixed = this->GetFixedImage();
-  const auto * moving = this->GetMovingImage();
-  if (fixed->GetLargestPossibleRegion().GetNumberOfPixels() == 0 ||
-      moving->GetLargestPossibleRegion().GetNumberOfPixels() == 0)
-  {
-    itkExceptionMacro(<< "The fixed and moving images must not be empty");
-  }
-  const auto * mask = this->GetFixedImageMask();
-  if (mask != nullptr && mask->GetLargestPossibleRegion().GetNumberOfPixels() == 0)
-  {
-    itkExceptionMacro(<< "The fixed-image mask is empty");
-  }
-  const unsigned int shrink = 1u << (m_NumberOfLevels - 1);
-  for (unsigned int d = 0; d < ImageDimension; ++d)
-  {
-    if (fixed->GetLargestPossibleRegion().GetSize()[d] < 2 * shrink)
-    {
-      itkExceptionMacro(<< "The fixed image is too small (" << fixed->GetLargestPossibleRegion().GetSize() << ") for "
-                        << m_NumberOfLevels << " resolution levels");
-    }
-  }
+  this->VerifyImageInputs(m_NumberOfLevels);
 }
 
 template <typename TFixedImage, typename TMovingImage>
@@ -188,8 +132,7 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::GenerateData()
     composite->AddTransform(result);
     result = composite;
   }
-  auto * output = static_cast<DecoratedTransformType *>(this->ProcessObject::GetOutput(0));
-  output->Set(result);
+  this->SetTransformOutputValue(result);
   this->UpdateProgress(1.0f);
 }
 

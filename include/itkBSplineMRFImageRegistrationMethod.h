@@ -19,12 +19,8 @@
 #define itkBSplineMRFImageRegistrationMethod_h
 
 #include "itkBSplineMRFImageRegistrationMethodEnums.h"
-#include "itkBSplineTransform.h"
-#include "itkDataObjectDecorator.h"
-#include "itkImage.h"
+#include "itkBSplineImageRegistrationMethodBase.h"
 #include "itkMRFLabelingSolver.h"
-#include "itkProcessObject.h"
-#include "itkTransform.h"
 #include <array>
 #include <vector>
 
@@ -99,28 +95,28 @@ namespace itk
  * \ingroup FFDShapeMatching
  */
 template <typename TFixedImage, typename TMovingImage = TFixedImage>
-class ITK_TEMPLATE_EXPORT BSplineMRFImageRegistrationMethod : public ProcessObject
+class ITK_TEMPLATE_EXPORT BSplineMRFImageRegistrationMethod : public BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>
 {
 public:
   ITK_DISALLOW_COPY_AND_MOVE(BSplineMRFImageRegistrationMethod);
 
   using Self = BSplineMRFImageRegistrationMethod;
-  using Superclass = ProcessObject;
+  using Superclass = BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(BSplineMRFImageRegistrationMethod, ProcessObject);
+  itkTypeMacro(BSplineMRFImageRegistrationMethod, BSplineImageRegistrationMethodBase);
 
   static constexpr unsigned int ImageDimension = TFixedImage::ImageDimension;
   static_assert(ImageDimension == 3 && TMovingImage::ImageDimension == 3, "The MRF registration is 3-D");
 
-  using FixedImageType = TFixedImage;
-  using MovingImageType = TMovingImage;
-  using MaskImageType = Image<unsigned char, ImageDimension>;
-  using TransformType = Transform<double, ImageDimension, ImageDimension>;
-  using BSplineTransformType = BSplineTransform<double, ImageDimension, 3>;
-  using DecoratedTransformType = DataObjectDecorator<TransformType>;
+  using typename Superclass::BSplineTransformType;
+  using typename Superclass::DecoratedTransformType;
+  using typename Superclass::FixedImageType;
+  using typename Superclass::MaskImageType;
+  using typename Superclass::MovingImageType;
+  using typename Superclass::TransformType;
   using SimilarityEnum = BSplineMRFImageRegistrationMethodEnums::Similarity;
   using PairwiseFunctionEnum = BSplineMRFImageRegistrationMethodEnums::PairwiseFunction;
   using LabelSetEnum = BSplineMRFImageRegistrationMethodEnums::LabelSet;
@@ -128,25 +124,7 @@ public:
   using DisplacementType = Vector<double, ImageDimension>;
   using InternalImageType = Image<float, ImageDimension>;
 
-  /** The fixed image (target). */
-  itkSetInputMacro(FixedImage, FixedImageType);
-  itkGetInputMacro(FixedImage, FixedImageType);
-
-  /** The moving image (source). */
-  itkSetInputMacro(MovingImage, MovingImageType);
-  itkGetInputMacro(MovingImage, MovingImageType);
-
-  /** Optional mask of the fixed image: only its non-zero voxels contribute to the unary costs. */
-  itkSetInputMacro(FixedImageMask, MaskImageType);
-  itkGetInputMacro(FixedImageMask, MaskImageType);
-
-  /** The estimated transform, fixed space to moving space. */
-  const DecoratedTransformType *
-  GetTransformOutput() const;
-
-  /** The estimated transform itself (null before Update()). */
-  const TransformType *
-  GetTransform() const;
+  // Inputs (fixed image, moving image, fixed-image mask) and the decorated transform output: see the superclass.
 
   /** Control points per axis of the final B-spline grid (ITK mesh size N - 3). At least 4. Default: 20. */
   itkSetMacro(NumberOfControlPointsPerAxis, unsigned int);
@@ -275,7 +253,7 @@ public:
   PointwiseCost(double fixedValue, double movingValue) const;
 
 protected:
-  BSplineMRFImageRegistrationMethod();
+  BSplineMRFImageRegistrationMethod() = default;
   ~BSplineMRFImageRegistrationMethod() override = default;
 
   void
@@ -283,9 +261,6 @@ protected:
 
   void
   GenerateData() override;
-
-  using Superclass::MakeOutput;
-  DataObjectPointer MakeOutput(DataObjectPointerArraySizeType) override;
 
   void
   PrintSelf(std::ostream & os, Indent indent) const override;

@@ -34,47 +34,10 @@
 namespace itk
 {
 template <typename TFixedImage, typename TMovingImage>
-BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::BSplineMRFImageRegistrationMethod()
-{
-  this->SetPrimaryInputName("FixedImage");
-  this->AddRequiredInputName("MovingImage", 1);
-  this->AddOptionalInputName("FixedImageMask", 2);
-  this->SetNumberOfRequiredOutputs(1);
-  this->SetNthOutput(0, this->MakeOutput(0));
-}
-
-template <typename TFixedImage, typename TMovingImage>
-auto
-BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::MakeOutput(DataObjectPointerArraySizeType)
-  -> DataObjectPointer
-{
-  return DecoratedTransformType::New().GetPointer();
-}
-
-template <typename TFixedImage, typename TMovingImage>
-auto
-BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::GetTransformOutput() const
-  -> const DecoratedTransformType *
-{
-  return static_cast<const DecoratedTransformType *>(this->ProcessObject::GetOutput(0));
-}
-
-template <typename TFixedImage, typename TMovingImage>
-auto
-BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::GetTransform() const -> const TransformType *
-{
-  return this->GetTransformOutput()->Get();
-}
-
-template <typename TFixedImage, typename TMovingImage>
 unsigned int
 BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::GetMeshSizeAtLevel(unsigned int level) const
 {
-  const unsigned int finalMeshSize = std::max(m_NumberOfControlPointsPerAxis, 4u) - 3;
-  const unsigned int levels = std::max(m_NumberOfLevels, 1u);
-  const unsigned int coarsening = levels - 1 - std::min(level, levels - 1);
-  const double       meshSize = std::round(finalMeshSize / std::pow(2.0, coarsening));
-  return std::max(1u, static_cast<unsigned int>(meshSize));
+  return Superclass::ComputeMeshSizeAtLevel(m_NumberOfControlPointsPerAxis, m_NumberOfLevels, level);
 }
 
 template <typename TFixedImage, typename TMovingImage>
@@ -186,29 +149,7 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::VerifyPrecondition
   {
     itkExceptionMacro(<< "The exhaustive solver is for tiny test graphs only");
   }
-  const auto * fixed = this->GetFixedImage();
-  const auto * moving = this->GetMovingImage();
-  if (fixed->GetLargestPossibleRegion().GetNumberOfPixels() == 0 ||
-      moving->GetLargestPossibleRegion().GetNumberOfPixels() == 0)
-  {
-    itkExceptionMacro(<< "The fixed and moving images must not be empty");
-  }
-  const auto * mask = this->GetFixedImageMask();
-  if (mask != nullptr && mask->GetLargestPossibleRegion().GetNumberOfPixels() == 0)
-  {
-    itkExceptionMacro(<< "The fixed-image mask is empty");
-  }
-  const unsigned int shrink = 1u << (m_NumberOfLevels - 1);
-  for (unsigned int d = 0; d < ImageDimension; ++d)
-  {
-    if (fixed->GetLargestPossibleRegion().GetSize()[d] < 2 * shrink ||
-        moving->GetLargestPossibleRegion().GetSize()[d] < 2 * shrink)
-    {
-      itkExceptionMacro(<< "The images are too small (" << fixed->GetLargestPossibleRegion().GetSize() << ", "
-                        << moving->GetLargestPossibleRegion().GetSize() << ") for " << m_NumberOfLevels
-                        << " resolution levels");
-    }
-  }
+  this->VerifyImageInputs(m_NumberOfLevels);
 }
 
 template <typename TFixedImage, typename TMovingImage>
@@ -251,8 +192,7 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::GenerateData()
     this->RunLevel(level, transform, iterationCount);
   }
   m_MinimumJacobianDeterminant = this->MinimumJacobianDeterminantOf(transform);
-  auto * output = static_cast<DecoratedTransformType *>(this->ProcessObject::GetOutput(0));
-  output->Set(transform);
+  this->SetTransformOutputValue(transform);
   this->UpdateProgress(1.0f);
 }
 

@@ -395,7 +395,7 @@ itkBSplineMRFImageRegistrationMethodTest(int argc, char * argv[])
   int testStatus = EXIT_SUCCESS;
 
   auto registration = RegistrationType::New();
-  ITK_EXERCISE_BASIC_OBJECT_METHODS(registration, BSplineMRFImageRegistrationMethod, ProcessObject);
+  ITK_EXERCISE_BASIC_OBJECT_METHODS(registration, BSplineMRFImageRegistrationMethod, BSplineImageRegistrationMethodBase);
   ITK_TEST_SET_GET_VALUE(20u, registration->GetNumberOfControlPointsPerAxis());
   ITK_TEST_SET_GET_VALUE(3u, registration->GetNumberOfLevels());
   ITK_TEST_SET_GET_VALUE(5u, registration->GetNumberOfIterationsPerLevel());

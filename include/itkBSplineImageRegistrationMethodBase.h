@@ -1,0 +1,115 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkBSplineImageRegistrationMethodBase_h
+#define itkBSplineImageRegistrationMethodBase_h
+
+#include "itkBSplineTransform.h"
+#include "itkDataObjectDecorator.h"
+#include "itkImage.h"
+#include "itkProcessObject.h"
+#include "itkTransform.h"
+
+namespace itk
+{
+/** \class BSplineImageRegistrationMethodBase
+ * \brief What the module's B-spline image registrations (GO: BSplineFFDImageRegistrationMethod, MRF:
+ * BSplineMRFImageRegistrationMethod) share: their inputs, their decorated transform output, the checks of their
+ * images and the control grid of each resolution level.
+ *
+ * Inputs: the fixed image (index 0; in shape matching the target's voxel image), the moving image (the source's)
+ * and an optional fixed-image mask (unsigned char, non-zero = used; e.g. a band around the target surface).
+ * Output: the transform T, fixed space to moving space (ITK's convention), as a decorated
+ * Transform<double, 3, 3> (GetTransformOutput()), ready to connect into ApplyTransformToMeshFilter.
+ *
+ * A derived class implements GenerateData() and sets its result with SetTransformOutputValue(); its
+ * VerifyPreconditions() calls VerifyImageInputs() with its number of levels.
+ *
+ * \sa BSplineFFDImageRegistrationMethod, BSplineMRFImageRegistrationMethod
+ * \ingroup FFDShapeMatching
+ */
+template <typename TFixedImage, typename TMovingImage = TFixedImage>
+class ITK_TEMPLATE_EXPORT BSplineImageRegistrationMethodBase : public ProcessObject
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(BSplineImageRegistrationMethodBase);
+
+  using Self = BSplineImageRegistrationMethodBase;
+  using Superclass = ProcessObject;
+  using Pointer = SmartPointer<Self>;
+  using ConstPointer = SmartPointer<const Self>;
+
+  itkTypeMacro(BSplineImageRegistrationMethodBase, ProcessObject);
+
+  static constexpr unsigned int ImageDimension = TFixedImage::ImageDimension;
+
+  using FixedImageType = TFixedImage;
+  using MovingImageType = TMovingImage;
+  using MaskImageType = Image<unsigned char, ImageDimension>;
+  using TransformType = Transform<double, ImageDimension, ImageDimension>;
+  using BSplineTransformType = BSplineTransform<double, ImageDimension, 3>;
+  using DecoratedTransformType = DataObjectDecorator<TransformType>;
+
+  /** The fixed image (target). */
+  itkSetInputMacro(FixedImage, FixedImageType);
+  itkGetInputMacro(FixedImage, FixedImageType);
+
+  /** The moving image (source). */
+  itkSetInputMacro(MovingImage, MovingImageType);
+  itkGetInputMacro(MovingImage, MovingImageType);
+
+  /** Optional mask of the fixed image: only its non-zero voxels are used. */
+  itkSetInputMacro(FixedImageMask, MaskImageType);
+  itkGetInputMacro(FixedImageMask, MaskImageType);
+
+  /** The estimated transform, fixed space to moving space. */
+  const DecoratedTransformType *
+  GetTransformOutput() const;
+
+  /** The estimated transform itself (null before Update()). */
+  const TransformType *
+  GetTransform() const;
+
+  /** Control-grid mesh size (control points minus 3) of a level of a schedule with numberOfLevels levels ending
+   * with numberOfControlPointsPerAxis control points per axis: the final mesh size halved per coarser level,
+   * rounded, at least 1. */
+  static unsigned int
+  ComputeMeshSizeAtLevel(unsigned int numberOfControlPointsPerAxis, unsigned int numberOfLevels, unsigned int level);
+
+protected:
+  BSplineImageRegistrationMethodBase();
+  ~BSplineImageRegistrationMethodBase() override = default;
+
+  /** Checks that the fixed and moving images are not empty, the mask (if any) is not empty, and both images have
+   * at least 2^numberOfLevels voxels along every axis; throws an ExceptionObject naming the problem. */
+  void
+  VerifyImageInputs(unsigned int numberOfLevels) const;
+
+  /** Sets the decorated output's transform. */
+  void
+  SetTransformOutputValue(TransformType * transform);
+
+  using Superclass::MakeOutput;
+  DataObjectPointer MakeOutput(DataObjectPointerArraySizeType) override;
+};
+} // namespace itk
+
+#ifndef ITK_MANUAL_INSTANTIATION
+#  include "itkBSplineImageRegistrationMethodBase.hxx"
+#endif
+
+#endif // itkBSplineImageRegistrationMethodBase_h
