@@ -217,27 +217,33 @@ ThreadTimesJson(const std::vector<ThreadTime> & times)
   return out.str();
 }
 
-/** Stage 1: inverse application. Appends its JSON object to `json`; returns false if a --check criterion fails. */
-bool
-RunInverse(const Options & options, std::ostringstream & json)
+/** A random B-spline generator over the mesh's bounding box grown by --margin, with --grid control points per axis;
+ * the caller sets the noise. */
+GeneratorType::Pointer
+MakeGeneratorOver(const MeshType * mesh, const Options & options)
 {
-  const MeshType::Pointer  mesh = LoadMesh(options.inverseMesh, options);
   auto                     generator = GeneratorType::New();
   GeneratorType::PointType lower;
   GeneratorType::PointType upper;
   GrownBounds(mesh, options.margin, lower, upper);
   generator->SetDomainFromBoundingBox(lower, upper);
   generator->SetNumberOfControlPointsPerAxis(options.grid);
+  return generator;
+}
+
+/** Stage 1: inverse application. Appends its JSON object to `json`; returns false if a --check criterion fails. */
+bool
+RunInverse(const Options & options, std::ostringstream & json)
+{
+  const MeshType::Pointer      mesh = LoadMesh(options.inverseMesh, options);
+  const GeneratorType::Pointer generator = MakeGeneratorOver(mesh, options);
   generator->SetSigma(options.sigma);
   generator->SetClipAmplitude(options.clip);
   generator->SetSeed(options.seed);
   generator->Generate();
   const GeneratorType::TransformType * transform = generator->GetTransform();
-  double                               spacing = 0.0;
-  for (unsigned int k = 0; k < 3; ++k)
-  {
-    spacing = std::max(spacing, (upper[k] - lower[k]) / (options.grid - 3));
-  }
+  const auto &                         gridSpacing = transform->GetCoefficientImages()[0]->GetSpacing();
+  const double spacing = std::max({ gridSpacing[0], gridSpacing[1], gridSpacing[2] });
   std::cerr << "inverse: " << mesh->GetNumberOfPoints() << " vertices, " << NumberOfTriangles(mesh)
             << " triangles, grid " << options.grid << "^3 (spacing up to " << spacing << " mm), min det J "
             << generator->GetMinimumJacobianDeterminant() << std::endl;
@@ -390,13 +396,8 @@ Mean(const std::vector<double> & values)
 bool
 RunDistances(const Options & options, std::ostringstream & json)
 {
-  const MeshType::Pointer  meshA = LoadMesh(options.distanceMesh, options);
-  auto                     generator = GeneratorType::New();
-  GeneratorType::PointType lower;
-  GeneratorType::PointType upper;
-  GrownBounds(meshA, options.margin, lower, upper);
-  generator->SetDomainFromBoundingBox(lower, upper);
-  generator->SetNumberOfControlPointsPerAxis(options.grid);
+  const MeshType::Pointer      meshA = LoadMesh(options.distanceMesh, options);
+  const GeneratorType::Pointer generator = MakeGeneratorOver(meshA, options);
   generator->SetNoise(GeneratorType::NoiseEnum::SmoothedGaussian);
   generator->SetSmoothingSigma(2.5);
   generator->SetRMSDisplacement(options.deformRMS);

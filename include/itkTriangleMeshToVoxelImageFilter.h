@@ -407,6 +407,20 @@ private:
   bool
   UsesScanLines() const;
 
+  /** True for the modes that need the inside/outside sign (Solid, signed SignedDistance). */
+  bool
+  ModeNeedsSign() const
+  {
+    return m_Mode == ModeEnum::Solid || (m_Mode == ModeEnum::SignedDistance && !m_UnsignedDistance);
+  }
+
+  /** True for the modes that only mark the voxels within a distance of the surface (Occupancy, BandMask). */
+  bool
+  ModeIsReachOnly() const
+  {
+    return m_Mode == ModeEnum::Occupancy || m_Mode == ModeEnum::BandMask;
+  }
+
   ModeEnum        m_Mode{ ModeEnum::Solid };
   OutputPixelType m_InsideValue{ NumericTraits<OutputPixelType>::OneValue() };
   OutputPixelType m_OutsideValue{ NumericTraits<OutputPixelType>::ZeroValue() };

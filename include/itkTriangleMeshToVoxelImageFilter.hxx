@@ -397,7 +397,7 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::PrepareScanLines()
   const long                    j1 = j0 + static_cast<long>(region.GetSize(1)) - 1;
   const long                    k0 = region.GetIndex(2);
   const long                    k1 = k0 + static_cast<long>(region.GetSize(2)) - 1;
-  const bool needSign = m_Mode == ModeEnum::Solid || (m_Mode == ModeEnum::SignedDistance && !m_UnsignedDistance);
+  const bool needSign = this->ModeNeedsSign();
   m_CrossingBins.Build(
     needSign ? m_IndexTriangles : std::vector<detail::IndexSpaceTriangle>{}, j0, j1, k0, k1, 0.0, 0.0);
 
@@ -425,7 +425,7 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::PrepareScanLines()
     }
   }
   m_RegionTriangles.clear();
-  if (reachDistance >= 0.0 && m_Mode != ModeEnum::SignedDistance)
+  if (reachDistance >= 0.0 && this->ModeIsReachOnly())
   {
     // Occupancy and band mask go triangle by triangle (GenerateReachByTriangles()): the triangles whose
     // grown bounding box meets the requested region.
@@ -494,8 +494,7 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::BuildTriangleHierarchy
   // Points with the same coordinates share one vertex number, so that the net current of an edge
   // (WindingNumberGradientBound) is found by vertex numbers even in a triangle soup. Only the modes that
   // decide inside/outside need it (occupancy and the band mask are distances only).
-  const bool needInside = m_Mode == ModeEnum::Solid || m_Mode == ModeEnum::WindingNumber ||
-                          (m_Mode == ModeEnum::SignedDistance && !m_UnsignedDistance);
+  const bool needInside = this->ModeNeedsSign() || m_Mode == ModeEnum::WindingNumber;
   std::vector<std::pair<VectorType, typename InputMeshType::PointIdentifier>> sortedPoints;
   sortedPoints.reserve(needInside ? points->Size() : 0);
   typename InputMeshType::PointIdentifier largestId = 0;
@@ -644,7 +643,7 @@ void
 TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::DynamicThreadedGenerateData(
   const OutputImageRegionType & outputRegionForThread)
 {
-  if (this->UsesScanLines() && (m_Mode == ModeEnum::Occupancy || m_Mode == ModeEnum::BandMask))
+  if (this->UsesScanLines() && this->ModeIsReachOnly())
   {
     this->GenerateReachByTriangles(outputRegionForThread);
   }
@@ -1108,9 +1107,8 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::GenerateByScanLines(co
 
   const double band = m_EffectiveBandWidth;
   const double bandSquared = band * band;
-  const bool   needSign = m_Mode == ModeEnum::Solid || (m_Mode == ModeEnum::SignedDistance && !m_UnsignedDistance);
-  const bool   needReach = m_Mode == ModeEnum::Occupancy || m_Mode == ModeEnum::BandMask ||
-                         (m_Mode == ModeEnum::SignedDistance && !m_ExactDistance);
+  const bool   needSign = this->ModeNeedsSign();
+  const bool   needReach = this->ModeIsReachOnly() || (m_Mode == ModeEnum::SignedDistance && !m_ExactDistance);
   const long first = region.GetIndex(0);
   const auto count = static_cast<size_t>(region.GetSize(0));
   // Distance between neighbouring voxel centres of a row (for the exact distance's warm start).

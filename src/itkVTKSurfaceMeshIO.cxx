@@ -472,11 +472,14 @@ CheckPLYFile(const std::string & fileName)
     const bool isFace = element.Name == "face";
     for (unsigned long long i = 0; i < element.Count; ++i)
     {
-      const std::string where = (ascii ? "ASCII" : "binary") + std::string(" PLY data ends or is malformed in ") +
-                                element.Name + " " + std::to_string(i) + " of " + std::to_string(element.Count);
+      // The problem's text, made only when there is one (this loop runs once per vertex and face).
+      const auto where = [&element, i, ascii]() {
+        return (ascii ? "ASCII" : "binary") + std::string(" PLY data ends or is malformed in ") + element.Name + " " +
+               std::to_string(i) + " of " + std::to_string(element.Count);
+      };
       if (ascii && !readLine())
       {
-        return where;
+        return where();
       }
       for (const Property & property : element.Properties)
       {
@@ -485,21 +488,21 @@ CheckPLYFile(const std::string & fileName)
         {
           if (!readValue(property.Type, value))
           {
-            return where;
+            return where();
           }
           continue;
         }
         double count = 0.0;
         if (!readValue(property.CountType, count) || count < 0.0 || count != std::floor(count))
         {
-          return where;
+          return where();
         }
         const bool isIndexList = isFace && property.Name == "vertex_indices";
         for (double j = 0; j < count; ++j)
         {
           if (!readValue(property.Type, value))
           {
-            return where;
+            return where();
           }
           if (isIndexList && (value < 0.0 || value >= numberOfVertices || value != std::floor(value)))
           {
