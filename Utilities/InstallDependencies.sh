@@ -12,6 +12,7 @@ packages=(
   libmaxflow-dev                         # Boykov-Kolmogorov max-flow for the MRF optimizer
   xvfb xauth                             # off-screen rendering of snapshots
   clang libclang-rt-14-dev               # sanitizer and libFuzzer build (Utilities/SanitizerAndFuzzBuild.sh)
+  clang-format-14                        # the format check of CI (Utilities/CheckFormat.sh)
 )
 
 missing=()

@@ -27,6 +27,7 @@
 #include "itkTriangleCell.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -112,6 +113,37 @@ WriteMeshFile(const TMesh * mesh, const std::string & fileName, const std::strin
     throw TError("cannot write mesh '" + shownName + "': " + OneLine(error.GetDescription()));
   }
 }
+/** Writes \c mesh as WriteMeshFile() does, then reads the file back: a full disk or a file size limit can leave a
+ * cut file that a writer does not notice. Throws \c TError when the file does not read back whole (for every format
+ * but STL, which does not share vertices, with the same number of points). */
+template <typename TError, typename TMesh>
+void
+WriteCheckedMeshFile(const TMesh * mesh, const std::string & fileName, const std::string & shownName)
+{
+  WriteMeshFile<TError>(mesh, fileName, shownName);
+  auto reader = itk::MeshFileReader<TMesh>::New();
+  reader->SetFileName(fileName);
+  try
+  {
+    reader->Update();
+  }
+  catch (const itk::ExceptionObject & error)
+  {
+    throw TError("cannot write mesh '" + shownName + "': the written file does not read back (" +
+                 OneLine(error.GetDescription()) + "); is the disk full or a file size limit reached?");
+  }
+  std::string extension = std::filesystem::path(fileName).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) {
+    return static_cast<char>(std::tolower(c));
+  });
+  if (extension != ".stl" && reader->GetOutput()->GetNumberOfPoints() != mesh->GetNumberOfPoints())
+  {
+    throw TError("cannot write mesh '" + shownName + "': the written file holds " +
+                 std::to_string(reader->GetOutput()->GetNumberOfPoints()) + " points, not " +
+                 std::to_string(mesh->GetNumberOfPoints()) + "; is the disk full or a file size limit reached?");
+  }
+}
+
 /** Where ScaledTriangleCopy puts the bounding box of the mesh. */
 enum class MeshPlacement
 {

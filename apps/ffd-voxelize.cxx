@@ -22,12 +22,15 @@
 //                [--margin M] [--reference IMAGE] [--band-width B] [--exact] [--unsigned]
 //                [--beta BETA] [--threads N] [--report FILE.json]
 //
-// The output is written to a temporary file next to OUTPUT_IMAGE and renamed, so a failed run
-// leaves nothing half-written. Errors are one line on stderr and a non-zero exit code.
+// The outputs are checked before any work, written to temporary files next to them, read back and renamed into
+// place together (ffd::OutputFiles), so a failed run changes no file. Errors are one line on stderr and a non-zero
+// exit code.
 
+#include "FFDOutputFiles.h"
 #include "FFDProgramSupport.h"
 #include "itkImageFileReader.h"
 #include "itkImageFileWriter.h"
+#include "itkImageIOFactory.h"
 #include "itkImageRegionConstIterator.h"
 #include "itkMesh.h"
 #include "itkMeshFileReader.h"
@@ -220,19 +223,6 @@ ParseArguments(int argc, char * argv[])
   return options;
 }
 
-// Temporary name next to the output, with the same extension(s) so the same image IO is chosen.
-std::string
-TemporaryName(const std::string & output)
-{
-  const std::size_t slash = output.find_last_of('/');
-  const std::string directory = slash == std::string::npos ? std::string() : output.substr(0, slash + 1);
-  const std::string name = slash == std::string::npos ? output : output.substr(slash + 1);
-  const std::size_t dot = name.find('.');
-  const std::string extension = dot == std::string::npos ? std::string() : name.substr(dot);
-  return directory + ".ffd-voxelize-" + std::to_string(getpid()) + "-" +
-         (dot == std::string::npos ? name : name.substr(0, dot)) + extension;
-}
-
 template <typename TVector>
 std::string
 JsonArray(const TVector & values)
@@ -248,9 +238,44 @@ JsonArray(const TVector & values)
   return out.str();
 }
 
+// The temporary names of the outputs (image, report), declared, and so checked, before any work.
+struct OutputNames
+{
+  std::string image;
+  std::string report;
+};
+
+OutputNames
+DeclareOutputs(const Options & options, ffd::OutputFiles & outputs)
+{
+  OutputNames names;
+  outputs.AddInput(options.meshFile);
+  if (!options.referenceFile.empty())
+  {
+    outputs.AddInput(options.referenceFile);
+  }
+  names.image = outputs.Add(options.outputFile, "OUTPUT_IMAGE", {}, false);
+  if (itk::ImageIOFactory::CreateImageIO(names.image.c_str(), itk::IOFileModeEnum::WriteMode).IsNull())
+  {
+    throw std::runtime_error("OUTPUT_IMAGE must name an image format ITK can write (.mha, .nrrd, .nii, .nii.gz, "
+                             "...), not '" +
+                             options.outputFile + "'");
+  }
+  if (!options.reportFile.empty())
+  {
+    names.report = outputs.Add(options.reportFile, "--report", {}, true);
+  }
+  return names;
+}
+
 template <typename TImage>
 int
-Run(const Options & options, ModeEnum mode, const MeshType * mesh, double readSeconds)
+Run(const Options &     options,
+    ModeEnum            mode,
+    const MeshType *    mesh,
+    double              readSeconds,
+    ffd::OutputFiles &  outputs,
+    const OutputNames & names)
 {
   using FilterType = itk::TriangleMeshToVoxelImageFilter<MeshType, TImage>;
   auto filter = FilterType::New();
@@ -304,25 +329,27 @@ Run(const Options & options, ModeEnum mode, const MeshType * mesh, double readSe
     maximum = std::max(maximum, value);
   }
 
-  const auto        writeStart = ClockType::now();
-  const std::string temporary = TemporaryName(options.outputFile);
+  const auto writeStart = ClockType::now();
   try
   {
     auto writer = itk::ImageFileWriter<TImage>::New();
     writer->SetInput(output);
-    writer->SetFileName(temporary);
+    writer->SetFileName(names.image);
     writer->UseCompressionOn();
     writer->Update();
+    // Read back: a full disk or a file size limit can leave a cut file that a writer does not notice.
+    auto reader = itk::ImageFileReader<TImage>::New();
+    reader->SetFileName(names.image);
+    reader->Update();
+    if (reader->GetOutput()->GetLargestPossibleRegion() != output->GetLargestPossibleRegion())
+    {
+      throw std::runtime_error("the written file does not read back whole");
+    }
   }
   catch (const itk::ExceptionObject & error)
   {
-    std::remove(temporary.c_str());
-    throw std::runtime_error("cannot write '" + options.outputFile + "': " + error.GetDescription());
-  }
-  if (std::rename(temporary.c_str(), options.outputFile.c_str()) != 0)
-  {
-    std::remove(temporary.c_str());
-    throw std::runtime_error("cannot move the result into '" + options.outputFile + "'");
+    throw std::runtime_error("cannot write '" + options.outputFile + "': " + OneLine(error.GetDescription()) +
+                             " (is the disk full or a file size limit reached?)");
   }
   const double writeSeconds = SecondsSince(writeStart);
 
@@ -333,8 +360,7 @@ Run(const Options & options, ModeEnum mode, const MeshType * mesh, double readSe
 
   if (!options.reportFile.empty())
   {
-    const std::string  reportTemporary = options.reportFile + ".tmp-" + std::to_string(getpid());
-    std::ofstream      report(reportTemporary);
+    std::ostringstream report;
     std::ostringstream sizeText;
     sizeText << '[' << size[0] << ", " << size[1] << ", " << size[2] << ']';
     report.precision(17);
@@ -363,13 +389,9 @@ Run(const Options & options, ModeEnum mode, const MeshType * mesh, double readSe
            << "  \"seconds\": { \"read\": " << readSeconds << ", \"voxelize\": " << voxelizeSeconds
            << ", \"write\": " << writeSeconds << " }\n"
            << "}\n";
-    report.close();
-    if (!report || std::rename(reportTemporary.c_str(), options.reportFile.c_str()) != 0)
-    {
-      std::remove(reportTemporary.c_str());
-      throw std::runtime_error("cannot write the report '" + options.reportFile + "'");
-    }
+    outputs.WriteText(options.reportFile, report.str());
   }
+  outputs.Commit();
   return EXIT_SUCCESS;
 }
 
@@ -396,6 +418,8 @@ main(int argc, char * argv[])
       itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(options.threads);
     }
     itk::RegisterFFDShapeMatchingMeshIOFactories();
+    ffd::OutputFiles  outputs("ffd-voxelize");
+    const OutputNames names = DeclareOutputs(options, outputs);
     if (!std::ifstream(options.meshFile).good())
     {
       throw std::runtime_error("cannot read mesh '" + options.meshFile + "': no such readable file");
@@ -416,21 +440,21 @@ main(int argc, char * argv[])
 
     if (options.mode == "occupancy")
     {
-      return Run<MaskImageType>(options, ModeEnum::Occupancy, mesh, readSeconds);
+      return Run<MaskImageType>(options, ModeEnum::Occupancy, mesh, readSeconds, outputs, names);
     }
     if (options.mode == "solid")
     {
-      return Run<MaskImageType>(options, ModeEnum::Solid, mesh, readSeconds);
+      return Run<MaskImageType>(options, ModeEnum::Solid, mesh, readSeconds, outputs, names);
     }
     if (options.mode == "band")
     {
-      return Run<MaskImageType>(options, ModeEnum::BandMask, mesh, readSeconds);
+      return Run<MaskImageType>(options, ModeEnum::BandMask, mesh, readSeconds, outputs, names);
     }
     if (options.mode == "winding")
     {
-      return Run<RealImageType>(options, ModeEnum::WindingNumber, mesh, readSeconds);
+      return Run<RealImageType>(options, ModeEnum::WindingNumber, mesh, readSeconds, outputs, names);
     }
-    return Run<RealImageType>(options, ModeEnum::SignedDistance, mesh, readSeconds);
+    return Run<RealImageType>(options, ModeEnum::SignedDistance, mesh, readSeconds, outputs, names);
   }
   catch (const itk::ExceptionObject & error)
   {

@@ -60,6 +60,18 @@ public:
     MeanSquares
   };
 
+  /** How the meshes become voxel images for the voxel methods (GO, MRF):
+   * - \c Occupancy: surface voxels, compared by Mattes mutual information (GO) or pointwise MI (MRF),
+   * - \c Solid: inside voxels (generalized winding number), compared the same way,
+   * - \c SignedDistance: the unsigned distance to the surface in a band, compared by mean squares (GO) or
+   *   the sum of squared differences (MRF). */
+  enum class Voxelization : uint8_t
+  {
+    Occupancy,
+    Solid,
+    SignedDistance
+  };
+
   /** Gradient-based optimizer of a voxel-image registration. */
   enum class Optimizer : uint8_t
   {
@@ -75,6 +87,15 @@ public:
    * leaves \c method unchanged when \c text names no method. */
   static bool
   MethodFromString(const std::string & text, Method & method);
+
+  /** The command-line spelling of a voxelization: "occupancy", "solid" or "sdf". */
+  static std::string
+  VoxelizationToString(Voxelization voxelization);
+
+  /** Parses the command-line spelling of a voxelization (case-insensitive). Returns false and
+   * leaves \c voxelization unchanged when \c text names none. */
+  static bool
+  VoxelizationFromString(const std::string & text, Voxelization & voxelization);
 };
 
 /** Prints the qualified name of the enumerator, e.g. "itk::FFDShapeMatchingEnums::Method::GO". */
@@ -88,6 +109,10 @@ extern FFDShapeMatching_EXPORT std::ostream &
 /** Prints the qualified name of the enumerator. */
 extern FFDShapeMatching_EXPORT std::ostream &
                                operator<<(std::ostream & out, const FFDShapeMatchingEnums::Optimizer value);
+
+/** Prints the qualified name of the enumerator. */
+extern FFDShapeMatching_EXPORT std::ostream &
+                               operator<<(std::ostream & out, const FFDShapeMatchingEnums::Voxelization value);
 
 } // namespace itk
 

@@ -33,14 +33,23 @@ constexpr std::array<MethodSpelling, 5> MethodSpellings{ { { FFDShapeMatchingEnu
                                                            { FFDShapeMatchingEnums::Method::Par, "par" },
                                                            { FFDShapeMatchingEnums::Method::GOPar, "go+par" },
                                                            { FFDShapeMatchingEnums::Method::MRFPar, "mrf+par" } } };
-} // namespace
 
+using VoxelizationSpelling = std::pair<FFDShapeMatchingEnums::Voxelization, const char *>;
+
+constexpr std::array<VoxelizationSpelling, 3> VoxelizationSpellings{
+  { { FFDShapeMatchingEnums::Voxelization::Occupancy, "occupancy" },
+    { FFDShapeMatchingEnums::Voxelization::Solid, "solid" },
+    { FFDShapeMatchingEnums::Voxelization::SignedDistance, "sdf" } }
+};
+
+// The spelling of \c value in \c spellings, or "invalid".
+template <typename TEnum, std::size_t N>
 std::string
-FFDShapeMatchingEnums::MethodToString(Method method)
+SpellingOf(const std::array<std::pair<TEnum, const char *>, N> & spellings, TEnum value)
 {
-  for (const auto & spelling : MethodSpellings)
+  for (const auto & spelling : spellings)
   {
-    if (spelling.first == method)
+    if (spelling.first == value)
     {
       return spelling.second;
     }
@@ -48,20 +57,47 @@ FFDShapeMatchingEnums::MethodToString(Method method)
   return "invalid";
 }
 
+// Parses \c text (case-insensitive) into \c value; false, and \c value unchanged, when no spelling matches.
+template <typename TEnum, std::size_t N>
 bool
-FFDShapeMatchingEnums::MethodFromString(const std::string & text, Method & method)
+ParseSpelling(const std::array<std::pair<TEnum, const char *>, N> & spellings, const std::string & text, TEnum & value)
 {
   std::string lower(text);
   std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
-  for (const auto & spelling : MethodSpellings)
+  for (const auto & spelling : spellings)
   {
     if (lower == spelling.second)
     {
-      method = spelling.first;
+      value = spelling.first;
       return true;
     }
   }
   return false;
+}
+} // namespace
+
+std::string
+FFDShapeMatchingEnums::MethodToString(Method method)
+{
+  return SpellingOf(MethodSpellings, method);
+}
+
+bool
+FFDShapeMatchingEnums::MethodFromString(const std::string & text, Method & method)
+{
+  return ParseSpelling(MethodSpellings, text, method);
+}
+
+std::string
+FFDShapeMatchingEnums::VoxelizationToString(Voxelization voxelization)
+{
+  return SpellingOf(VoxelizationSpellings, voxelization);
+}
+
+bool
+FFDShapeMatchingEnums::VoxelizationFromString(const std::string & text, Voxelization & voxelization)
+{
+  return ParseSpelling(VoxelizationSpellings, text, voxelization);
 }
 
 std::ostream &
@@ -112,6 +148,22 @@ operator<<(std::ostream & out, const FFDShapeMatchingEnums::Optimizer value)
         return "itk::FFDShapeMatchingEnums::Optimizer::RegularStepGradientDescent";
     }
     return "INVALID VALUE FOR itk::FFDShapeMatchingEnums::Optimizer";
+  }();
+}
+std::ostream &
+operator<<(std::ostream & out, const FFDShapeMatchingEnums::Voxelization value)
+{
+  return out << [value] {
+    switch (value)
+    {
+      case FFDShapeMatchingEnums::Voxelization::Occupancy:
+        return "itk::FFDShapeMatchingEnums::Voxelization::Occupancy";
+      case FFDShapeMatchingEnums::Voxelization::Solid:
+        return "itk::FFDShapeMatchingEnums::Voxelization::Solid";
+      case FFDShapeMatchingEnums::Voxelization::SignedDistance:
+        return "itk::FFDShapeMatchingEnums::Voxelization::SignedDistance";
+    }
+    return "INVALID VALUE FOR itk::FFDShapeMatchingEnums::Voxelization";
   }();
 }
 } // namespace itk

@@ -1,0 +1,100 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef FFDMatch_h
+#define FFDMatch_h
+
+// ffd-match, the program of the module's shape-matching pipeline (itk::MeshShapeMatchingFilter). Its parts, one
+// job per file: the command line (FFDMatchOptions.cxx), the filter's set-up, progress and the templates file
+// (FFDMatchPipeline.cxx), scoring and the JSON report (FFDMatchReport.cxx), the demo (FFDMatchDemo.cxx), and the
+// run itself (ffd-match.cxx).
+
+#include "itkImage.h"
+#include "itkMesh.h"
+#include "itkPointCorrespondenceErrorCalculator.h"
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+namespace ffd
+{
+using MeshType = itk::Mesh<double, 3>;
+using ImageType = itk::Image<float, 3>;
+
+/** A failure of the run: one line for the user, exit code 1. */
+struct Error : std::runtime_error
+{
+  using std::runtime_error::runtime_error;
+};
+
+/** The command line of ffd-match. The settings of the method are optional: those not given keep the defaults of
+ * itk::MeshShapeMatchingFilter, which are the module's tuned settings. */
+struct Options
+{
+  std::string source;
+  std::string target;
+  std::string method;
+  std::string output;
+  std::string transformOut;
+  std::string report;
+  std::string snapshot;
+  std::string templates;
+  std::string templateSplit{ "control-point" };
+  int         threads{ 0 };
+  double      memoryLimit{ 0.0 }; // MB, 0 = from the available memory
+  bool        demo{ false };
+  std::string outputDir{ "demo-output" };
+
+  std::optional<unsigned int> grid;
+  std::optional<double>       voxelSize;
+  std::optional<std::string>  voxelization;
+  std::optional<int>          seed;
+  std::optional<unsigned int> levels;
+  std::optional<unsigned int> iterations;
+  std::optional<double>       sampling;
+  std::optional<double>       bendingWeight;
+  std::optional<double>       foldingWeight;
+  std::optional<double>       mrfWeight;
+  std::optional<bool>         mrfPyramid;
+  std::optional<double>       timeLimit; // seconds of registration
+};
+
+/** The options of the command line; throws Error on a bad one. --help prints the usage and exits. */
+Options
+ParseArguments(int argc, char * argv[]);
+
+/** Known correspondences (demo): the source vertex id and the target vertex id of the same material point. */
+struct GroundTruth
+{
+  itk::PointCorrespondenceErrorCalculator<MeshType>::CorrespondenceContainerType correspondences;
+};
+
+/** Runs the pipeline on options.source / options.target and writes options.output (and the transform, report and
+ * snapshot files), all or nothing. With a ground truth (demo), the true vertex errors are scored and reported too,
+ * and \c demoJson is added to the report. Returns the ratio of the true mean error after to before (or of the mean
+ * directed distance). */
+double
+Match(const Options & options, const GroundTruth * truth, const std::string & demoJson);
+
+/** The demo: builds a CAD-like part, cuts and deforms a target from it, matches and scores it. Returns the exit
+ * code. */
+int
+RunDemo(Options options);
+} // namespace ffd
+
+#endif // FFDMatch_h

@@ -1,0 +1,323 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkMeshShapeMatchingFilter_h
+#define itkMeshShapeMatchingFilter_h
+
+#include "itkApplyTransformToMeshFilter.h"
+#include "itkBSplineFFDImageRegistrationMethod.h"
+#include "itkBSplineMRFImageRegistrationMethod.h"
+#include "itkDataObjectDecorator.h"
+#include "itkFFDShapeMatchingEnums.h"
+#include "itkImage.h"
+#include "itkMeshOpenBoundaryMaskImageFilter.h"
+#include "itkMeshToMeshFilter.h"
+#include "itkParametricTemplateRegistrationMethod.h"
+#include "itkParametricTemplateTransform.h"
+#include "itkTransform.h"
+#include "itkTriangleMeshToVoxelImageFilter.h"
+
+#include <string>
+#include <vector>
+
+namespace itk
+{
+/** \class MeshShapeMatchingFilter
+ * \brief Matches a source polygon mesh to a target mesh with a B-spline free-form deformation: the whole method.
+ *
+ * The source mesh (SetSourceMesh(), the same as SetInput()) is moved onto the target mesh (SetTargetMesh()), which
+ * may be a partial, open surface patch. The filter is a mini-pipeline of the module's public filters:
+ *
+ * 1. both meshes are voxelized on the same voxel size (TriangleMeshToVoxelImageFilter; Voxelization: an unsigned
+ *    distance band, surface occupancy or the solid), and the metric mask is the band around the target surface
+ *    without the part near the target's open boundary (MeshOpenBoundaryMaskImageFilter);
+ * 2. the chosen Method estimates T : target space -> source space (the target is the fixed image, the source the
+ *    moving one): GO (BSplineFFDImageRegistrationMethod), MRF (BSplineMRFImageRegistrationMethod), Par
+ *    (ParametricTemplateRegistrationMethod on the meshes themselves, with the TemplateTransform), or GO / MRF
+ *    refined by Par;
+ * 3. ApplyTransformToMeshFilter applies T^-1 to the source's vertices (Newton inversion).
+ *
+ * GetOutput() is the deformed source: the source's vertex order, cells and point data, its points moved onto the
+ * target. GetTransformOutput() is T as a decorated transform, ready for a TransformFileWriter or another mesh
+ * filter. Progress is reported through a ProgressAccumulator.
+ *
+ * The filter holds the module's tuned settings of every method, measured on the module's benchmark; these are its
+ * defaults and the defaults of the ffd-match program. The internal filters are reachable
+ * (GetModifiableGORegistration() and friends) for tuning beyond the settings offered here; the settings of this
+ * filter are written onto them at every Update().
+ *
+ * \code
+ * auto matching = itk::MeshShapeMatchingFilter<MeshType>::New();
+ * matching->SetSourceMesh(source);
+ * matching->SetTargetMesh(target);
+ * matching->SetMethod(itk::FFDShapeMatchingEnums::Method::GO);
+ * matching->SetNumberOfControlPointsPerAxis(20);
+ * matching->SetVoxelSize(1.0);
+ * matching->Update();
+ * const MeshType * deformed = matching->GetOutput();
+ * \endcode
+ *
+ * \sa TriangleMeshToVoxelImageFilter, BSplineFFDImageRegistrationMethod, BSplineMRFImageRegistrationMethod,
+ * ParametricTemplateRegistrationMethod, ApplyTransformToMeshFilter
+ * \ingroup FFDShapeMatching
+ */
+template <typename TMesh, typename TImage = Image<float, TMesh::PointDimension>>
+class ITK_TEMPLATE_EXPORT MeshShapeMatchingFilter : public MeshToMeshFilter<TMesh, TMesh>
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(MeshShapeMatchingFilter);
+
+  using Self = MeshShapeMatchingFilter;
+  using Superclass = MeshToMeshFilter<TMesh, TMesh>;
+  using Pointer = SmartPointer<Self>;
+  using ConstPointer = SmartPointer<const Self>;
+
+  itkNewMacro(Self);
+  itkTypeMacro(MeshShapeMatchingFilter, MeshToMeshFilter);
+
+  static constexpr unsigned int Dimension = TMesh::PointDimension;
+  static_assert(Dimension == 3, "MeshShapeMatchingFilter matches 3-D meshes.");
+
+  using MeshType = TMesh;
+  using ImageType = TImage;
+  using MaskImageType = Image<unsigned char, Dimension>;
+  using MethodEnum = FFDShapeMatchingEnums::Method;
+  using VoxelizationEnum = FFDShapeMatchingEnums::Voxelization;
+  using TransformType = Transform<double, Dimension, Dimension>;
+  using DecoratedTransformType = DataObjectDecorator<TransformType>;
+  using ParametricTransformType = ParametricTemplateTransform<double, Dimension>;
+  using VoxelizerType = TriangleMeshToVoxelImageFilter<MeshType, ImageType>;
+  using MaskVoxelizerType = TriangleMeshToVoxelImageFilter<MeshType, MaskImageType>;
+  using OpenBoundaryMaskType = MeshOpenBoundaryMaskImageFilter<MaskImageType, MeshType>;
+  using GORegistrationType = BSplineFFDImageRegistrationMethod<ImageType>;
+  using MRFRegistrationType = BSplineMRFImageRegistrationMethod<ImageType>;
+  using ParRegistrationType = ParametricTemplateRegistrationMethod<MeshType, MeshType, ImageType>;
+  using MeshTransformFilterType = ApplyTransformToMeshFilter<MeshType, MeshType>;
+
+  /** The mesh that is moved (the same as SetInput()). */
+  void
+  SetSourceMesh(const MeshType * source)
+  {
+    this->SetInput(source);
+  }
+  const MeshType *
+  GetSourceMesh() const
+  {
+    return this->GetInput();
+  }
+
+  /** The mesh (or open surface patch) the source is matched to (required). */
+  itkSetInputMacro(TargetMesh, MeshType);
+  itkGetInputMacro(TargetMesh, MeshType);
+
+  /** The templates of the Par methods (required by Par, GOPar and MRFPar; see ParametricTemplateTransform). */
+  itkSetGetDecoratedObjectInputMacro(TemplateTransform, ParametricTransformType);
+
+  /** The method. Default: GO. */
+  itkSetEnumMacro(Method, MethodEnum);
+  itkGetEnumMacro(Method, MethodEnum);
+
+  /** How the meshes become images. Default: SignedDistance (an unsigned distance band; mean squares). */
+  itkSetEnumMacro(Voxelization, VoxelizationEnum);
+  itkGetEnumMacro(Voxelization, VoxelizationEnum);
+
+  /** Edge length of the voxels, in mesh units. Default: 1. */
+  itkSetClampMacro(VoxelSize, double, 1e-300, NumericTraits<double>::max());
+  itkGetConstMacro(VoxelSize, double);
+
+  /** Half-width of the distance band and of the metric mask around the target surface, in voxels. Default: 2. */
+  itkSetClampMacro(BandWidthInVoxels, double, 0.5, 1000.0);
+  itkGetConstMacro(BandWidthInVoxels, double);
+
+  /** Control points per axis of the final B-spline grid (ITK mesh size minus 3). Default: 20. */
+  itkSetClampMacro(NumberOfControlPointsPerAxis, unsigned int, 4, 1000);
+  itkGetConstMacro(NumberOfControlPointsPerAxis, unsigned int);
+
+  /** Control-grid levels of the voxel methods. Default: 2. */
+  itkSetClampMacro(NumberOfLevels, unsigned int, 1, 8);
+  itkGetConstMacro(NumberOfLevels, unsigned int);
+
+  /** Iterations per level (GO: optimizer iterations, MRF: label iterations, Par: optimizer iterations).
+   * 0 (default) means the method's tuned number: GO 50, MRF 8, Par ParametricTemplateRegistrationMethod's. */
+  itkSetMacro(NumberOfIterations, unsigned int);
+  itkGetConstMacro(NumberOfIterations, unsigned int);
+
+  /** The number of iterations \c method uses (NumberOfIterations, or its tuned number when that is 0). */
+  unsigned int
+  GetNumberOfIterationsOf(MethodEnum method) const;
+
+  /** Fraction of the band voxels sampled by GO's metric, (0, 1]. Default: 0.25. */
+  itkSetClampMacro(SamplingPercentage, double, 1e-6, 1.0);
+  itkGetConstMacro(SamplingPercentage, double);
+
+  /** GO: weight of the B-spline bending energy added to the metric. Default: 1. */
+  itkSetClampMacro(BendingEnergyWeight, double, 0.0, NumericTraits<double>::max());
+  itkGetConstMacro(BendingEnergyWeight, double);
+
+  /** GO: weight of the folding (negative Jacobian) penalty added to the metric. Default: 0. */
+  itkSetClampMacro(FoldingPenaltyWeight, double, 0.0, NumericTraits<double>::max());
+  itkGetConstMacro(FoldingPenaltyWeight, double);
+
+  /** MRF: weight lambda of the pairwise regularization. Default: 1. */
+  itkSetClampMacro(MRFRegularizationWeight, double, 0.0, NumericTraits<double>::max());
+  itkGetConstMacro(MRFRegularizationWeight, double);
+
+  /** MRF: smooth and shrink the images at coarse levels (faster, less accurate on thin bands). Default: off. */
+  itkSetMacro(MRFUseImagePyramid, bool);
+  itkGetConstMacro(MRFUseImagePyramid, bool);
+  itkBooleanMacro(MRFUseImagePyramid);
+
+  /** Seconds the registration may run, 0 = no limit (default). Past the limit, the transform reached so far is
+   * used and GetTimeLimitReached() is true. */
+  itkSetClampMacro(MaximumRunTime, double, 0.0, NumericTraits<double>::max());
+  itkGetConstMacro(MaximumRunTime, double);
+
+  /** Seed of the metric sampling and of the randomized optimizers. Default: 121212. */
+  itkSetMacro(RandomSeed, int);
+  itkGetConstMacro(RandomSeed, int);
+
+  /** Residual (mesh units) below which the inverse of a vertex has converged. Default: 1e-4. */
+  itkSetClampMacro(InverseTolerance, double, 0.0, NumericTraits<double>::max());
+  itkGetConstMacro(InverseTolerance, double);
+
+  /** T : target space -> source space, as a decorated pipeline output. */
+  const DecoratedTransformType *
+  GetTransformOutput() const;
+
+  /** T itself (after Update()). */
+  const TransformType *
+  GetTransform() const;
+
+  /** The margin (mesh units) laid around each mesh's bounds by its voxel grid. */
+  double
+  GetVoxelGridMargin() const
+  {
+    return (m_BandWidthInVoxels + 2.0) * m_VoxelSize;
+  }
+
+  /** Half-width of the band in mesh units. */
+  double
+  GetBandWidth() const
+  {
+    return m_BandWidthInVoxels * m_VoxelSize;
+  }
+
+  /** The record of the last Update(): the metric (or energy) value per iteration of the registration, the
+   * name of what was minimized, why it stopped and whether the time limit stopped it. */
+  itkGetConstReferenceMacro(MetricValues, std::vector<double>);
+  itkGetConstReferenceMacro(MetricName, std::string);
+  itkGetConstReferenceMacro(StopConditionDescription, std::string);
+  itkGetConstMacro(TimeLimitReached, bool);
+
+  /** Voxels of the metric mask (the band around the target less its open boundary) and the target's open
+   * boundary edges, in the last Update(). */
+  itkGetConstMacro(NumberOfMetricVoxels, SizeValueType);
+  itkGetConstMacro(NumberOfOpenBoundaryEdges, SizeValueType);
+
+  /** Wall-clock seconds of the stages of the last Update(). */
+  itkGetConstMacro(VoxelizationTime, double);
+  itkGetConstMacro(RegistrationTime, double);
+  itkGetConstMacro(MeshTransformTime, double);
+
+  /** The internal filters, for tuning and for their results (e.g. the voxel images, the inverse's convergence). */
+  itkGetModifiableObjectMacro(TargetVoxelizer, VoxelizerType);
+  itkGetModifiableObjectMacro(SourceVoxelizer, VoxelizerType);
+  itkGetModifiableObjectMacro(BandMaskVoxelizer, MaskVoxelizerType);
+  itkGetModifiableObjectMacro(OpenBoundaryMask, OpenBoundaryMaskType);
+  itkGetModifiableObjectMacro(GORegistration, GORegistrationType);
+  itkGetModifiableObjectMacro(MRFRegistration, MRFRegistrationType);
+  itkGetModifiableObjectMacro(ParRegistration, ParRegistrationType);
+  itkGetModifiableObjectMacro(MeshTransformFilter, MeshTransformFilterType);
+
+  /** Throws an ExceptionObject unless the target's bounding box, grown by \c margin, meets the source's: the
+   * methods estimate a deformation, not a placement. */
+  static void
+  CheckOverlap(const MeshType * source, const MeshType * target, double margin);
+
+protected:
+  MeshShapeMatchingFilter();
+  ~MeshShapeMatchingFilter() override = default;
+
+  void
+  PrintSelf(std::ostream & os, Indent indent) const override;
+
+  using DataObjectPointerArraySizeType = ProcessObject::DataObjectPointerArraySizeType;
+  using Superclass::MakeOutput;
+  ProcessObject::DataObjectPointer
+  MakeOutput(DataObjectPointerArraySizeType index) override;
+
+  void
+  VerifyPreconditions() ITKv5_CONST override;
+
+  void
+  GenerateData() override;
+
+private:
+  /** Voxelizes both meshes and builds the metric mask. */
+  void
+  VoxelizeMeshes();
+
+  /** Runs the voxel method GO or MRF; returns its transform output. */
+  const DecoratedTransformType *
+  RegisterVoxels(MethodEnum method);
+
+  /** Runs Par, from \c base when given. */
+  const DecoratedTransformType *
+  RegisterMeshes(const DecoratedTransformType * base, double timeLimit);
+
+  MethodEnum       m_Method{ MethodEnum::GO };
+  VoxelizationEnum m_Voxelization{ VoxelizationEnum::SignedDistance };
+  double           m_VoxelSize{ 1.0 };
+  double           m_BandWidthInVoxels{ 2.0 };
+  unsigned int     m_NumberOfControlPointsPerAxis{ 20 };
+  unsigned int     m_NumberOfLevels{ 2 };
+  unsigned int     m_NumberOfIterations{ 0 };
+  double           m_SamplingPercentage{ 0.25 };
+  double           m_BendingEnergyWeight{ 1.0 };
+  double           m_FoldingPenaltyWeight{ 0.0 };
+  double           m_MRFRegularizationWeight{ 1.0 };
+  bool             m_MRFUseImagePyramid{ false };
+  double           m_MaximumRunTime{ 0.0 };
+  int              m_RandomSeed{ 121212 };
+  double           m_InverseTolerance{ 1e-4 };
+
+  std::vector<double> m_MetricValues;
+  std::string         m_MetricName;
+  std::string         m_StopConditionDescription;
+  bool                m_TimeLimitReached{ false };
+  SizeValueType       m_NumberOfMetricVoxels{ 0 };
+  SizeValueType       m_NumberOfOpenBoundaryEdges{ 0 };
+  double              m_VoxelizationTime{ 0.0 };
+  double              m_RegistrationTime{ 0.0 };
+  double              m_MeshTransformTime{ 0.0 };
+
+  typename VoxelizerType::Pointer           m_TargetVoxelizer;
+  typename VoxelizerType::Pointer           m_SourceVoxelizer;
+  typename MaskVoxelizerType::Pointer       m_BandMaskVoxelizer;
+  typename OpenBoundaryMaskType::Pointer    m_OpenBoundaryMask;
+  typename GORegistrationType::Pointer      m_GORegistration;
+  typename MRFRegistrationType::Pointer     m_MRFRegistration;
+  typename ParRegistrationType::Pointer     m_ParRegistration;
+  typename MeshTransformFilterType::Pointer m_MeshTransformFilter;
+};
+} // namespace itk
+
+#ifndef ITK_MANUAL_INSTANTIATION
+#  include "itkMeshShapeMatchingFilter.hxx"
+#endif
+
+#endif // itkMeshShapeMatchingFilter_h

@@ -1,0 +1,414 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkMeshShapeMatchingFilter_hxx
+#define itkMeshShapeMatchingFilter_hxx
+
+#include "itkMeshShapeMatchingFilter.h"
+#include "itkProgressAccumulator.h"
+
+#include <chrono>
+#include <sstream>
+
+namespace itk
+{
+namespace detail
+{
+/** Seconds since \c start on the steady clock. */
+inline double
+SecondsSince(std::chrono::steady_clock::time_point start)
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+} // namespace detail
+
+template <typename TMesh, typename TImage>
+MeshShapeMatchingFilter<TMesh, TImage>::MeshShapeMatchingFilter()
+  : m_TargetVoxelizer(VoxelizerType::New())
+  , m_SourceVoxelizer(VoxelizerType::New())
+  , m_BandMaskVoxelizer(MaskVoxelizerType::New())
+  , m_OpenBoundaryMask(OpenBoundaryMaskType::New())
+  , m_GORegistration(GORegistrationType::New())
+  , m_MRFRegistration(MRFRegistrationType::New())
+  , m_ParRegistration(ParRegistrationType::New())
+  , m_MeshTransformFilter(MeshTransformFilterType::New())
+{
+  this->AddRequiredInputName("TargetMesh");
+  this->SetNumberOfRequiredOutputs(2);
+  this->SetNthOutput(1, this->MakeOutput(1));
+}
+
+template <typename TMesh, typename TImage>
+ProcessObject::DataObjectPointer
+MeshShapeMatchingFilter<TMesh, TImage>::MakeOutput(DataObjectPointerArraySizeType index)
+{
+  if (index == 1)
+  {
+    return DecoratedTransformType::New().GetPointer();
+  }
+  return Superclass::MakeOutput(index);
+}
+
+template <typename TMesh, typename TImage>
+auto
+MeshShapeMatchingFilter<TMesh, TImage>::GetTransformOutput() const -> const DecoratedTransformType *
+{
+  return static_cast<const DecoratedTransformType *>(this->ProcessObject::GetOutput(1));
+}
+
+template <typename TMesh, typename TImage>
+auto
+MeshShapeMatchingFilter<TMesh, TImage>::GetTransform() const -> const TransformType *
+{
+  return this->GetTransformOutput()->Get();
+}
+
+template <typename TMesh, typename TImage>
+unsigned int
+MeshShapeMatchingFilter<TMesh, TImage>::GetNumberOfIterationsOf(MethodEnum method) const
+{
+  if (m_NumberOfIterations > 0)
+  {
+    return m_NumberOfIterations;
+  }
+  // Measured on the benchmark's signed-distance pairs (benchmark/RESULTS.md).
+  switch (method)
+  {
+    case MethodEnum::GO:
+      return 50;
+    case MethodEnum::MRF:
+      return 8;
+    default:
+      return m_ParRegistration->GetNumberOfIterations();
+  }
+}
+
+template <typename TMesh, typename TImage>
+void
+MeshShapeMatchingFilter<TMesh, TImage>::CheckOverlap(const MeshType * source, const MeshType * target, double margin)
+{
+  const auto sourceBox = source->GetBoundingBox();
+  const auto targetBox = target->GetBoundingBox();
+  for (unsigned int d = 0; d < Dimension; ++d)
+  {
+    if (targetBox->GetMinimum()[d] > sourceBox->GetMaximum()[d] + margin ||
+        targetBox->GetMaximum()[d] < sourceBox->GetMinimum()[d] - margin)
+    {
+      itkGenericExceptionMacro(<< "the target does not overlap the source (their bounding boxes are apart along axis "
+                               << d << "): shape matching estimates a deformation, not a placement; align them first");
+    }
+  }
+}
+
+template <typename TMesh, typename TImage>
+void
+MeshShapeMatchingFilter<TMesh, TImage>::VerifyPreconditions() ITKv5_CONST
+{
+  Superclass::VerifyPreconditions();
+  const bool usesTemplates =
+    m_Method == MethodEnum::Par || m_Method == MethodEnum::GOPar || m_Method == MethodEnum::MRFPar;
+  if (usesTemplates && this->GetTemplateTransform() == nullptr)
+  {
+    itkExceptionMacro(<< "method " << FFDShapeMatchingEnums::MethodToString(m_Method)
+                      << " needs templates (SetTemplateTransform())");
+  }
+}
+
+template <typename TMesh, typename TImage>
+void
+MeshShapeMatchingFilter<TMesh, TImage>::VoxelizeMeshes()
+{
+  const MeshType * source = this->GetSourceMesh();
+  const MeshType * target = this->GetTargetMesh();
+  if (source->GetNumberOfPoints() == 0)
+  {
+    itkExceptionMacro(<< "the source mesh has no points");
+  }
+  if (target->GetNumberOfPoints() == 0)
+  {
+    itkExceptionMacro(<< "the target mesh has no points");
+  }
+  const double bandWidth = this->GetBandWidth();
+  CheckOverlap(source, target, bandWidth);
+
+  using ModeEnum = TriangleMeshToVoxelImageFilterEnums::Mode;
+  const ModeEnum                      mode = m_Voxelization == VoxelizationEnum::Occupancy
+                                               ? ModeEnum::Occupancy
+                                               : (m_Voxelization == VoxelizationEnum::Solid ? ModeEnum::Solid : ModeEnum::SignedDistance);
+  typename VoxelizerType::SpacingType spacing;
+  spacing.Fill(m_VoxelSize);
+  for (VoxelizerType * voxelizer : { m_TargetVoxelizer.GetPointer(), m_SourceVoxelizer.GetPointer() })
+  {
+    const bool isTarget = voxelizer == m_TargetVoxelizer.GetPointer();
+    voxelizer->SetInput(isTarget ? target : source);
+    voxelizer->SetMode(mode);
+    voxelizer->SetBandWidth(bandWidth);
+    voxelizer->SetUnsignedDistance(true); // open target patches have no inside
+    try
+    {
+      voxelizer->SetGeometryFromMeshBounds(spacing, this->GetVoxelGridMargin());
+      voxelizer->Update();
+    }
+    catch (const ExceptionObject & error)
+    {
+      itkExceptionMacro(<< "cannot voxelize the " << (isTarget ? "target" : "source")
+                        << " mesh: " << error.GetDescription());
+    }
+  }
+
+  // The metric compares the band around the target surface, less the part near the target's open boundary: there
+  // the distance to a cut-out patch differs from the distance to the whole source surface whatever the deformation.
+  m_BandMaskVoxelizer->SetInput(target);
+  m_BandMaskVoxelizer->SetMode(ModeEnum::BandMask);
+  m_BandMaskVoxelizer->SetBandWidth(bandWidth);
+  m_BandMaskVoxelizer->SetReferenceImage(m_TargetVoxelizer->GetOutput());
+  m_OpenBoundaryMask->SetInput(m_BandMaskVoxelizer->GetOutput());
+  m_OpenBoundaryMask->SetMesh(target);
+  m_OpenBoundaryMask->SetRadius(bandWidth + 0.5 * m_VoxelSize);
+  m_OpenBoundaryMask->Update();
+  m_NumberOfMetricVoxels = m_OpenBoundaryMask->GetNumberOfMaskVoxels();
+  m_NumberOfOpenBoundaryEdges = m_OpenBoundaryMask->GetNumberOfOpenBoundaryEdges();
+  if (m_NumberOfMetricVoxels == 0)
+  {
+    itkExceptionMacro(
+      << "the target surface leaves no voxel to compare (too small for the voxel size, or all open boundary)");
+  }
+}
+
+template <typename TMesh, typename TImage>
+auto
+MeshShapeMatchingFilter<TMesh, TImage>::RegisterVoxels(MethodEnum method) -> const DecoratedTransformType *
+{
+  const bool distances = m_Voxelization == VoxelizationEnum::SignedDistance;
+  if (method == MethodEnum::GO)
+  {
+    using MetricEnum = FFDShapeMatchingEnums::ImageMetric;
+    GORegistrationType * registration = m_GORegistration;
+    registration->SetFixedImage(m_TargetVoxelizer->GetOutput());
+    registration->SetMovingImage(m_SourceVoxelizer->GetOutput());
+    registration->SetFixedImageMask(m_OpenBoundaryMask->GetOutput());
+    registration->SetNumberOfControlPointsPerAxis(m_NumberOfControlPointsPerAxis);
+    // Distances compare by their differences; occupancy and solid labels by their statistics.
+    registration->SetMetric(distances ? MetricEnum::MeanSquares : MetricEnum::MattesMutualInformation);
+    registration->SetNumberOfLevels(m_NumberOfLevels);
+    registration->SetNumberOfIterations(this->GetNumberOfIterationsOf(MethodEnum::GO));
+    registration->SetSamplingPercentage(m_SamplingPercentage);
+    registration->SetRandomSeed(m_RandomSeed);
+    registration->SetBendingEnergyWeight(m_BendingEnergyWeight);
+    registration->SetFoldingPenaltyWeight(m_FoldingPenaltyWeight);
+    registration->SetMaximumRunTime(m_MaximumRunTime);
+    try
+    {
+      registration->Update();
+    }
+    catch (const ExceptionObject & error)
+    {
+      itkExceptionMacro(<< "registration failed: " << error.GetDescription());
+    }
+    m_MetricValues = registration->GetMetricValues();
+    m_MetricName = distances ? "MeanSquares" : "MattesMutualInformation";
+    m_StopConditionDescription = registration->GetStopConditionDescription();
+    m_TimeLimitReached = registration->GetTimeLimitReached();
+    return registration->GetTransformOutput();
+  }
+
+  using SimilarityEnum = typename MRFRegistrationType::SimilarityEnum;
+  MRFRegistrationType * registration = m_MRFRegistration;
+  registration->SetFixedImage(m_TargetVoxelizer->GetOutput());
+  registration->SetMovingImage(m_SourceVoxelizer->GetOutput());
+  registration->SetFixedImageMask(m_OpenBoundaryMask->GetOutput());
+  registration->SetNumberOfControlPointsPerAxis(m_NumberOfControlPointsPerAxis);
+  // Distances compare by the sum of squared differences; occupancy and solid labels by pointwise mutual
+  // information. Settings measured on the benchmark's signed-distance pairs (1 mm voxels, band mask;
+  // benchmark/RESULTS.md): 19 sparse labels up to 0.4 x the control spacing, shrinking by 2/3 per iteration, the
+  // levels at full image resolution (a shrunk image loses the thin band the distances live in), quadratic
+  // regularization, fold rejection.
+  registration->SetSimilarity(distances ? SimilarityEnum::SumOfSquaredDifferences : SimilarityEnum::MutualInformation);
+  registration->SetNumberOfLevels(m_NumberOfLevels);
+  registration->SetNumberOfIterationsPerLevel(this->GetNumberOfIterationsOf(MethodEnum::MRF));
+  registration->SetNumberOfLabelSteps(3);
+  registration->SetMaximumDisplacementFactor(0.4);
+  registration->SetLabelShrinkFactor(0.67);
+  registration->SetRegularizationWeight(m_MRFRegularizationWeight);
+  registration->SetRejectFoldingUpdates(true);
+  registration->SetUseImagePyramid(m_MRFUseImagePyramid);
+  registration->SetNumberOfSolverCycles(1);
+  try
+  {
+    registration->Update();
+  }
+  catch (const ExceptionObject & error)
+  {
+    itkExceptionMacro(<< "registration failed: " << error.GetDescription());
+  }
+  m_MetricValues = registration->GetEnergyValues();
+  m_MetricName = distances ? "MRF energy (SSD)" : "MRF energy (pointwise MI)";
+  std::ostringstream stop;
+  stop << "mrf: " << registration->GetEnergyValues().size() << " iterations, "
+       << registration->GetNumberOfRejectedUpdates() << " updates rejected";
+  m_StopConditionDescription = stop.str();
+  m_TimeLimitReached = false;
+  return registration->GetTransformOutput();
+}
+
+template <typename TMesh, typename TImage>
+auto
+MeshShapeMatchingFilter<TMesh, TImage>::RegisterMeshes(const DecoratedTransformType * base, double timeLimit)
+  -> const DecoratedTransformType *
+{
+  (void)timeLimit;
+  ParRegistrationType * registration = m_ParRegistration;
+  registration->SetFixedMesh(this->GetTargetMesh());
+  registration->SetMovingMesh(this->GetSourceMesh());
+  registration->SetTemplateTransformInput(this->GetTemplateTransformInput());
+  registration->SetBaseTransformInput(base);
+  registration->SetDistanceMapSpacing(m_VoxelSize);
+  if (m_NumberOfIterations > 0)
+  {
+    registration->SetNumberOfIterations(m_NumberOfIterations);
+  }
+  registration->SetRandomSeed(m_RandomSeed);
+  try
+  {
+    registration->Update();
+  }
+  catch (const ExceptionObject & error)
+  {
+    itkExceptionMacro(<< "registration failed: " << error.GetDescription());
+  }
+  const std::string voxelName = base != nullptr ? m_MetricName + ", then " : std::string();
+  const std::string voxelStop = base != nullptr ? m_StopConditionDescription : std::string();
+  m_MetricValues = registration->GetMetricValues();
+  m_MetricName = voxelName + "mean squared distance to the source surface";
+  m_StopConditionDescription = voxelStop + (voxelStop.empty() || voxelStop.back() == '\n' ? "" : "\n") +
+                               registration->GetStopConditionDescription();
+  return registration->GetTransformOutput();
+}
+
+template <typename TMesh, typename TImage>
+void
+MeshShapeMatchingFilter<TMesh, TImage>::GenerateData()
+{
+  using ClockType = std::chrono::steady_clock;
+  m_MetricValues.clear();
+  m_MetricName.clear();
+  m_StopConditionDescription.clear();
+  m_TimeLimitReached = false;
+
+  const bool voxelMethod = m_Method != MethodEnum::Par;
+  const bool refineByPar = m_Method == MethodEnum::GOPar || m_Method == MethodEnum::MRFPar;
+  auto       progress = ProgressAccumulator::New();
+  progress->SetMiniPipelineFilter(this);
+  progress->RegisterInternalFilter(m_TargetVoxelizer, 0.04f);
+  progress->RegisterInternalFilter(m_SourceVoxelizer, 0.04f);
+  progress->RegisterInternalFilter(m_BandMaskVoxelizer, 0.01f);
+  progress->RegisterInternalFilter(m_OpenBoundaryMask, 0.01f);
+  const float registrationWeight = 0.85f;
+  if (voxelMethod)
+  {
+    ProcessObject * voxelRegistration = m_Method == MethodEnum::MRF || m_Method == MethodEnum::MRFPar
+                                          ? static_cast<ProcessObject *>(m_MRFRegistration)
+                                          : static_cast<ProcessObject *>(m_GORegistration);
+    progress->RegisterInternalFilter(voxelRegistration, refineByPar ? 0.6f * registrationWeight : registrationWeight);
+  }
+  if (!voxelMethod || refineByPar)
+  {
+    progress->RegisterInternalFilter(m_ParRegistration, refineByPar ? 0.4f * registrationWeight : registrationWeight);
+  }
+  progress->RegisterInternalFilter(m_MeshTransformFilter, 0.05f);
+
+  // Voxelize (every method: the target image is also the grid on which T is scored).
+  auto start = ClockType::now();
+  this->VoxelizeMeshes();
+  m_VoxelizationTime = detail::SecondsSince(start);
+
+  // Register: T maps target (fixed) space to source (moving) space.
+  start = ClockType::now();
+  const DecoratedTransformType * transform = nullptr;
+  if (m_Method == MethodEnum::Par)
+  {
+    transform = this->RegisterMeshes(nullptr, m_MaximumRunTime);
+  }
+  else
+  {
+    transform = this->RegisterVoxels(m_Method == MethodEnum::MRF || m_Method == MethodEnum::MRFPar ? MethodEnum::MRF
+                                                                                                   : MethodEnum::GO);
+    if (refineByPar)
+    {
+      const bool   timeLimitReached = m_TimeLimitReached;
+      const double remaining =
+        m_MaximumRunTime > 0.0 ? std::max(1e-3, m_MaximumRunTime - detail::SecondsSince(start)) : 0.0;
+      transform = this->RegisterMeshes(transform, remaining);
+      m_TimeLimitReached = m_TimeLimitReached || timeLimitReached;
+    }
+  }
+  m_RegistrationTime = detail::SecondsSince(start);
+  auto * transformOutput = static_cast<DecoratedTransformType *>(this->ProcessObject::GetOutput(1));
+  transformOutput->Set(transform->Get());
+
+  // Apply: T^-1 moves the source onto the target.
+  start = ClockType::now();
+  m_MeshTransformFilter->SetInput(this->GetSourceMesh());
+  m_MeshTransformFilter->SetTransformInput(transform);
+  m_MeshTransformFilter->InverseOn();
+  m_MeshTransformFilter->SetInverseTolerance(m_InverseTolerance);
+  m_MeshTransformFilter->Update();
+  this->GraftOutput(m_MeshTransformFilter->GetOutput());
+  m_MeshTransformTime = detail::SecondsSince(start);
+  this->UpdateProgress(1.0f);
+}
+
+template <typename TMesh, typename TImage>
+void
+MeshShapeMatchingFilter<TMesh, TImage>::PrintSelf(std::ostream & os, Indent indent) const
+{
+  Superclass::PrintSelf(os, indent);
+  os << indent << "Method: " << m_Method << std::endl;
+  os << indent << "Voxelization: " << m_Voxelization << std::endl;
+  os << indent << "VoxelSize: " << m_VoxelSize << std::endl;
+  os << indent << "BandWidthInVoxels: " << m_BandWidthInVoxels << std::endl;
+  os << indent << "NumberOfControlPointsPerAxis: " << m_NumberOfControlPointsPerAxis << std::endl;
+  os << indent << "NumberOfLevels: " << m_NumberOfLevels << std::endl;
+  os << indent << "NumberOfIterations: " << m_NumberOfIterations << std::endl;
+  os << indent << "SamplingPercentage: " << m_SamplingPercentage << std::endl;
+  os << indent << "BendingEnergyWeight: " << m_BendingEnergyWeight << std::endl;
+  os << indent << "FoldingPenaltyWeight: " << m_FoldingPenaltyWeight << std::endl;
+  os << indent << "MRFRegularizationWeight: " << m_MRFRegularizationWeight << std::endl;
+  os << indent << "MRFUseImagePyramid: " << m_MRFUseImagePyramid << std::endl;
+  os << indent << "MaximumRunTime: " << m_MaximumRunTime << std::endl;
+  os << indent << "RandomSeed: " << m_RandomSeed << std::endl;
+  os << indent << "InverseTolerance: " << m_InverseTolerance << std::endl;
+  os << indent << "MetricName: " << m_MetricName << std::endl;
+  os << indent << "NumberOfMetricValues: " << m_MetricValues.size() << std::endl;
+  os << indent << "TimeLimitReached: " << m_TimeLimitReached << std::endl;
+  os << indent << "NumberOfMetricVoxels: " << m_NumberOfMetricVoxels << std::endl;
+  os << indent << "NumberOfOpenBoundaryEdges: " << m_NumberOfOpenBoundaryEdges << std::endl;
+  os << indent << "VoxelizationTime: " << m_VoxelizationTime << std::endl;
+  os << indent << "RegistrationTime: " << m_RegistrationTime << std::endl;
+  os << indent << "MeshTransformTime: " << m_MeshTransformTime << std::endl;
+  itkPrintSelfObjectMacro(TargetVoxelizer);
+  itkPrintSelfObjectMacro(SourceVoxelizer);
+  itkPrintSelfObjectMacro(BandMaskVoxelizer);
+  itkPrintSelfObjectMacro(OpenBoundaryMask);
+  itkPrintSelfObjectMacro(GORegistration);
+  itkPrintSelfObjectMacro(MRFRegistration);
+  itkPrintSelfObjectMacro(ParRegistration);
+  itkPrintSelfObjectMacro(MeshTransformFilter);
+}
+} // namespace itk
+
+#endif // itkMeshShapeMatchingFilter_hxx
