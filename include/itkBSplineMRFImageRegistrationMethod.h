@@ -45,7 +45,7 @@ namespace itk
  * determinant stays above FoldingThreshold: the energy of each level never increases (GetEnergyValues()).
  *
  * \par Solver
- * Alpha-expansion on Boykov-Kolmogorov max-flow (MRFLabelingSolver, Debian's libmaxflow): it is a proven,
+ * Alpha-expansion on Boost Graph's Boykov-Kolmogorov max-flow (MRFLabelingSolver): it is a proven,
  * fast move-making method for multi-label energies, each move is optimal over a very large neighbourhood of
  * labelings (much stronger than ICM), and it handles any pairwise term; the expansion terms that are not
  * submodular (the regularization depends on u as well as on the labels) are truncated and a move is only
