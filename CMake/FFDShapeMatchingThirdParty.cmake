@@ -1,4 +1,4 @@
-# Finds VTK and the system Eigen for FFDShapeMatching, in every configure mode.
+# Finds VTK, the system Eigen and Boost (Graph, header-only) for FFDShapeMatching, in every configure mode.
 #
 # Sets FFDShapeMatching_VTK_LIBRARIES (what the module library links) and
 # FFDShapeMatching_EXPORT_CODE_BUILD / _INSTALL, which ITK's module system writes
@@ -38,13 +38,13 @@ endforeach()
 # every target through the module library) makes ITK's headers use this one.
 find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 
-# Boykov-Kolmogorov max-flow (Debian's libmaxflow-dev) for the MRF solver's alpha-expansion moves.
-# Used by src/itkMRFLabelingSolver.cxx only and linked privately: no public header includes it.
-find_path(FFDShapeMatching_MAXFLOW_INCLUDE_DIR maxflow/graph.h PATH_SUFFIXES maxflow-3.0)
-find_library(FFDShapeMatching_MAXFLOW_LIBRARY NAMES maxflow)
-if(NOT FFDShapeMatching_MAXFLOW_INCLUDE_DIR OR NOT FFDShapeMatching_MAXFLOW_LIBRARY)
-  message(FATAL_ERROR "The max-flow library was not found (Debian: apt-get install libmaxflow-dev); "
-    "set FFDShapeMatching_MAXFLOW_INCLUDE_DIR and FFDShapeMatching_MAXFLOW_LIBRARY.")
+# Boost Graph's Boykov-Kolmogorov max-flow (header-only; Debian's libboost-graph-dev) for the MRF solver's
+# alpha-expansion moves. Used by src/itkMRFLabelingSolver.cxx only, through its include directory: nothing is
+# linked and no public header includes it.
+find_package(Boost REQUIRED)
+if(NOT EXISTS "${Boost_INCLUDE_DIRS}/boost/graph/boykov_kolmogorov_max_flow.hpp")
+  message(FATAL_ERROR "Boost Graph's boost/graph/boykov_kolmogorov_max_flow.hpp was not found in "
+    "${Boost_INCLUDE_DIRS} (Debian: apt-get install libboost-graph-dev); set Boost_ROOT.")
 endif()
 
 set(_FFDShapeMatching_export_code "

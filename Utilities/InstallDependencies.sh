@@ -9,7 +9,7 @@ packages=(
   libvtk9-dev                            # VTK 9.1: STL/PLY/VTP, locators, rendering
   libeigen3-dev                          # Eigen 3.4
   googletest libgtest-dev                # GoogleTest 1.12
-  libmaxflow-dev                         # Boykov-Kolmogorov max-flow for the MRF optimizer
+  libboost-graph-dev                     # Boost Graph's Boykov-Kolmogorov max-flow for the MRF optimizer
   xvfb xauth                             # off-screen rendering of snapshots
   clang libclang-rt-14-dev               # sanitizer and libFuzzer build (Utilities/SanitizerAndFuzzBuild.sh)
   clang-format-14                        # the format check of CI (Utilities/CheckFormat.sh)

@@ -20,7 +20,6 @@
 
 #include "itkBSplineImageRegistrationMethodBase.h"
 #include "itkFFDShapeMatchingEnums.h"
-#include <chrono>
 #include <string>
 #include <vector>
 
@@ -58,7 +57,8 @@ namespace itk
  * \ingroup FFDShapeMatching
  */
 template <typename TFixedImage, typename TMovingImage = TFixedImage>
-class ITK_TEMPLATE_EXPORT BSplineFFDImageRegistrationMethod : public BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>
+class ITK_TEMPLATE_EXPORT BSplineFFDImageRegistrationMethod
+  : public BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>
 {
 public:
   ITK_DISALLOW_COPY_AND_MOVE(BSplineFFDImageRegistrationMethod);
@@ -135,14 +135,9 @@ public:
   itkGetConstMacro(UseAffineStage, bool);
   itkBooleanMacro(UseAffineStage);
 
-  /** Wall-clock limit of the B-spline optimization in seconds; 0 (the default) means none. When it is reached the
-   * optimizer stops at the current iteration, keeping the best parameters so far; any remaining level makes one
-   * iteration (so the output has the final control grid) and GetTimeLimitReached() is true. */
-  itkSetClampMacro(MaximumRunTime, double, 0.0, NumericTraits<double>::max());
-  itkGetConstMacro(MaximumRunTime, double);
-
-  /** Whether the last Update() stopped at MaximumRunTime. */
-  itkGetConstMacro(TimeLimitReached, bool);
+  // MaximumRunTime and TimeLimitReached: see the superclass. When the limit is reached the optimizer stops at the
+  // current iteration, keeping the best parameters so far, and any remaining level makes one iteration (so the
+  // output has the final control grid).
 
   /** Metric value after each optimizer iteration, over all levels, of the last Update(). */
   const std::vector<double> &
@@ -192,10 +187,6 @@ private:
   double          m_BendingEnergyWeight{ 0.0 };
   double          m_FoldingPenaltyWeight{ 0.0 };
   bool            m_UseAffineStage{ false };
-  double          m_MaximumRunTime{ 0.0 };
-  bool            m_TimeLimitReached{ false };
-
-  std::chrono::steady_clock::time_point m_StartTime{};
 
   std::vector<double> m_MetricValues{};
   std::string         m_StopConditionDescription{};

@@ -106,8 +106,7 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::GenerateData()
 {
   m_MetricValues.clear();
   m_StopConditionDescription.clear();
-  m_TimeLimitReached = false;
-  m_StartTime = std::chrono::steady_clock::now();
+  this->StartRunTimeClock();
   this->UpdateProgress(0.0f);
 
   typename TransformType::Pointer affine;
@@ -334,12 +333,7 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunBSplineStage(
   auto         recordIteration = [this, &optimizer, &stopNow, totalIterations]() {
     const double value = optimizer->GetCurrentMetricValue();
     m_MetricValues.push_back(value);
-    if (m_MaximumRunTime > 0.0 &&
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - m_StartTime).count() > m_MaximumRunTime)
-    {
-      m_TimeLimitReached = true;
-    }
-    if (m_TimeLimitReached || !std::isfinite(value))
+    if (this->CheckRunTime() || !std::isfinite(value))
     {
       stopNow();
     }
@@ -354,7 +348,7 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunBSplineStage(
     levelTag = registration->AddObserver(MultiResolutionIterationEvent(), [this, &lbfgsb](const EventObject &) {
       // An empty initial position makes LBFGSB start from the (adapted) transform's parameters.
       lbfgsb->SetInitialPosition(typename LBFGSBOptimizerv4::ParametersType(0));
-      if (m_TimeLimitReached)
+      if (this->GetTimeLimitReached())
       {
         lbfgsb->SetNumberOfIterations(1);
       }
@@ -369,9 +363,9 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunBSplineStage(
 
   std::ostringstream stop;
   stop << "b-spline: " << optimizer->GetStopConditionDescription();
-  if (m_TimeLimitReached)
+  if (this->GetTimeLimitReached())
   {
-    stop << " (stopped early: the run-time limit of " << m_MaximumRunTime << " s was reached)";
+    stop << " (stopped early: the run-time limit of " << this->GetMaximumRunTime() << " s was reached)";
   }
   stop << '\n';
   m_StopConditionDescription += stop.str();
@@ -395,8 +389,6 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::PrintSelf(std::ost
   os << indent << "BendingEnergyWeight: " << m_BendingEnergyWeight << std::endl;
   os << indent << "FoldingPenaltyWeight: " << m_FoldingPenaltyWeight << std::endl;
   os << indent << "UseAffineStage: " << (m_UseAffineStage ? "On" : "Off") << std::endl;
-  os << indent << "MaximumRunTime: " << m_MaximumRunTime << std::endl;
-  os << indent << "TimeLimitReached: " << (m_TimeLimitReached ? "true" : "false") << std::endl;
   os << indent << "MetricValues: " << m_MetricValues.size() << " iterations" << std::endl;
   os << indent << "StopConditionDescription: " << m_StopConditionDescription << std::endl;
 }

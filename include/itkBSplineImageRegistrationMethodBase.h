@@ -23,6 +23,7 @@
 #include "itkImage.h"
 #include "itkProcessObject.h"
 #include "itkTransform.h"
+#include <chrono>
 
 namespace itk
 {
@@ -36,8 +37,12 @@ namespace itk
  * Output: the transform T, fixed space to moving space (ITK's convention), as a decorated
  * Transform<double, 3, 3> (GetTransformOutput()), ready to connect into ApplyTransformToMeshFilter.
  *
+ * A run-time limit (MaximumRunTime) stops either method's optimization cleanly with the best transform reached so
+ * far; GetTimeLimitReached() tells whether the last Update() stopped there.
+ *
  * A derived class implements GenerateData() and sets its result with SetTransformOutputValue(); its
- * VerifyPreconditions() calls VerifyImageInputs() with its number of levels.
+ * VerifyPreconditions() calls VerifyImageInputs() with its number of levels. Its GenerateData() starts the clock
+ * with StartRunTimeClock() and asks CheckRunTime() (or, from worker threads, IsRunTimeExceeded()) where it can stop.
  *
  * \sa BSplineFFDImageRegistrationMethod, BSplineMRFImageRegistrationMethod
  * \ingroup FFDShapeMatching
@@ -84,6 +89,15 @@ public:
   const TransformType *
   GetTransform() const;
 
+  /** Wall-clock limit of Update() in seconds; 0 (the default) means none, and a negative value is clamped to 0.
+   * When it is reached the optimization stops at the next point where the method checks it (see the derived
+   * class), keeping the best transform reached so far, and GetTimeLimitReached() is true. */
+  itkSetClampMacro(MaximumRunTime, double, 0.0, NumericTraits<double>::max());
+  itkGetConstMacro(MaximumRunTime, double);
+
+  /** Whether the last Update() stopped at MaximumRunTime. */
+  itkGetConstMacro(TimeLimitReached, bool);
+
   /** Control-grid mesh size (control points minus 3) of a level of a schedule with numberOfLevels levels ending
    * with numberOfControlPointsPerAxis control points per axis: the final mesh size halved per coarser level,
    * rounded, at least 1. */
@@ -99,12 +113,37 @@ protected:
   void
   VerifyImageInputs(unsigned int numberOfLevels) const;
 
+  /** Starts the clock of MaximumRunTime (at the start of GenerateData()) and clears TimeLimitReached. */
+  void
+  StartRunTimeClock();
+
+  /** Seconds since StartRunTimeClock(). */
+  double
+  GetElapsedRunTime() const;
+
+  /** Whether MaximumRunTime is set and has passed since StartRunTimeClock(). Changes nothing: safe from worker
+   * threads. */
+  bool
+  IsRunTimeExceeded() const;
+
+  /** Records (TimeLimitReached) that MaximumRunTime has passed, if it has; returns TimeLimitReached. */
+  bool
+  CheckRunTime();
+
+  void
+  PrintSelf(std::ostream & os, Indent indent) const override;
+
   /** Sets the decorated output's transform. */
   void
   SetTransformOutputValue(TransformType * transform);
 
   using Superclass::MakeOutput;
   DataObjectPointer MakeOutput(DataObjectPointerArraySizeType) override;
+
+private:
+  double                                m_MaximumRunTime{ 0.0 };
+  bool                                  m_TimeLimitReached{ false };
+  std::chrono::steady_clock::time_point m_StartTime{};
 };
 } // namespace itk
 

@@ -65,6 +65,48 @@ BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>::SetTransformOutpu
 }
 
 template <typename TFixedImage, typename TMovingImage>
+void
+BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>::StartRunTimeClock()
+{
+  m_StartTime = std::chrono::steady_clock::now();
+  m_TimeLimitReached = false;
+}
+
+template <typename TFixedImage, typename TMovingImage>
+double
+BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>::GetElapsedRunTime() const
+{
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - m_StartTime).count();
+}
+
+template <typename TFixedImage, typename TMovingImage>
+bool
+BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>::IsRunTimeExceeded() const
+{
+  return m_MaximumRunTime > 0.0 && this->GetElapsedRunTime() > m_MaximumRunTime;
+}
+
+template <typename TFixedImage, typename TMovingImage>
+bool
+BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>::CheckRunTime()
+{
+  if (!m_TimeLimitReached && this->IsRunTimeExceeded())
+  {
+    m_TimeLimitReached = true;
+  }
+  return m_TimeLimitReached;
+}
+
+template <typename TFixedImage, typename TMovingImage>
+void
+BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>::PrintSelf(std::ostream & os, Indent indent) const
+{
+  Superclass::PrintSelf(os, indent);
+  os << indent << "MaximumRunTime: " << m_MaximumRunTime << std::endl;
+  os << indent << "TimeLimitReached: " << (m_TimeLimitReached ? "true" : "false") << std::endl;
+}
+
+template <typename TFixedImage, typename TMovingImage>
 unsigned int
 BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>::ComputeMeshSizeAtLevel(
   unsigned int numberOfControlPointsPerAxis,

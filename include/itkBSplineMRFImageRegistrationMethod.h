@@ -45,7 +45,7 @@ namespace itk
  * determinant stays above FoldingThreshold: the energy of each level never increases (GetEnergyValues()).
  *
  * \par Solver
- * Alpha-expansion on Boykov-Kolmogorov max-flow (MRFLabelingSolver, Debian's libmaxflow): it is a proven,
+ * Alpha-expansion on Boost Graph's Boykov-Kolmogorov max-flow (MRFLabelingSolver): it is a proven,
  * fast move-making method for multi-label energies, each move is optimal over a very large neighbourhood of
  * labelings (much stronger than ICM), and it handles any pairwise term; the expansion terms that are not
  * submodular (the regularization depends on u as well as on the labels) are truncated and a move is only
@@ -75,6 +75,14 @@ namespace itk
  * Transform<double, 3, 3> (GetTransformOutput()), ready to connect into a mesh-transform filter.
  * Progress is reported and an IterationEvent invoked after every iteration. The images must be 3-D.
  *
+ * \par Run-time limit
+ * With MaximumRunTime (superclass) set, the clock is checked before each level and each iteration, before each
+ * label's pass of the unary costs and before each expansion move of the solver (MRFLabelingSolver's own limit, set
+ * to the time left). Past the limit, an iteration whose unary costs are incomplete is dropped, one whose solver
+ * stopped early keeps the labeling reached (it is checked as any update), and the remaining levels only refine
+ * the control grid (so the output has the final grid). The transform is then the best reached: an update is only
+ * kept if it lowers the energy. GetTimeLimitReached() is true.
+ *
  * \par References
  * B. Glocker, N. Komodakis, G. Tziritas, N. Navab and N. Paragios, "Dense image registration through MRFs and
  * efficient linear programming", Medical Image Analysis 12(6):731-741, 2008, doi:10.1016/j.media.2008.03.006.
@@ -95,7 +103,8 @@ namespace itk
  * \ingroup FFDShapeMatching
  */
 template <typename TFixedImage, typename TMovingImage = TFixedImage>
-class ITK_TEMPLATE_EXPORT BSplineMRFImageRegistrationMethod : public BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>
+class ITK_TEMPLATE_EXPORT BSplineMRFImageRegistrationMethod
+  : public BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>
 {
 public:
   ITK_DISALLOW_COPY_AND_MOVE(BSplineMRFImageRegistrationMethod);
@@ -307,10 +316,13 @@ private:
   void
   BuildHistogramCosts(const LevelData & level, const std::vector<float> & indices);
 
+  /** Unary costs of the labels; with stopAtTimeLimit, an empty vector once MaximumRunTime has passed (checked before
+   * each label). */
   std::vector<double>
   ComputeUnaries(const LevelData &                     level,
                  const std::vector<float> &            indices,
-                 const std::vector<DisplacementType> & labels) const;
+                 const std::vector<DisplacementType> & labels,
+                 bool                                  stopAtTimeLimit = false) const;
 
   /** Projects per-voxel values (VChannels of them, from valueFunction(voxel, values)) onto the control points with
    * their B-spline weights, separably: along x into rows, along y into planes, along z into projected. */

@@ -28,6 +28,7 @@
 #include "itkMultiThreaderBase.h"
 #include "itkShrinkImageFilter.h"
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -160,6 +161,7 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::GenerateData()
   m_EnergyLevels.clear();
   m_LabelingEnergyValues.clear();
   m_NumberOfRejectedUpdates = 0;
+  this->StartRunTimeClock();
   this->UpdateProgress(0.0f);
 
   // The transform: cubic B-spline over the fixed image, coarsest grid first.
@@ -189,7 +191,10 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::GenerateData()
       adaptor->SetRequiredTransformDomainMeshSize(meshSize);
       adaptor->AdaptTransformParameters();
     }
-    this->RunLevel(level, transform, iterationCount);
+    if (!this->CheckRunTime())
+    {
+      this->RunLevel(level, transform, iterationCount);
+    }
   }
   m_MinimumJacobianDeterminant = this->MinimumJacobianDeterminantOf(transform);
   this->SetTransformOutputValue(transform);
@@ -673,7 +678,8 @@ std::vector<double>
 BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::ComputeUnaries(
   const LevelData &                     level,
   const std::vector<float> &            indices,
-  const std::vector<DisplacementType> & labels) const
+  const std::vector<DisplacementType> & labels,
+  bool                                  stopAtTimeLimit) const
 {
   const size_t        numberOfNodes = level.SupportWeight.size();
   const size_t        numberOfLabels = labels.size();
@@ -686,7 +692,13 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::ComputeUnaries(
   const double minimumWeight = 1e-6 * largestWeight;
   const bool   ncc = m_Similarity == SimilarityEnum::NormalizedCrossCorrelation;
 
-  const auto body = [&](SizeValueType l) {
+  std::atomic<bool> stopped{ false };
+  const auto        body = [&](SizeValueType l) {
+    if (stopAtTimeLimit && (stopped || this->IsRunTimeExceeded()))
+    {
+      stopped = true;
+      return;
+    }
     double shift[3];
     for (unsigned int a = 0; a < 3; ++a)
     {
@@ -776,6 +788,10 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::ComputeUnaries(
   auto threader = MultiThreaderBase::New();
   threader->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
   threader->ParallelizeArray(0, numberOfLabels, body, nullptr);
+  if (stopped)
+  {
+    unary.clear();
+  }
   return unary;
 }
 
@@ -1008,9 +1024,18 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::RunLevel(unsigned 
       exception.SetDescription("BSplineMRFImageRegistrationMethod aborted");
       throw exception;
     }
+    if (this->CheckRunTime())
+    {
+      break;
+    }
     const auto labels = this->MakeLabels(maximumDisplacement);
-    auto       unary = this->ComputeUnaries(data, indices, labels);
-    double     dataEnergy = 0.0;
+    auto       unary = this->ComputeUnaries(data, indices, labels, true);
+    if (unary.empty())
+    {
+      this->CheckRunTime(); // incomplete costs: the iteration is dropped
+      break;
+    }
+    double dataEnergy = 0.0;
     for (SizeValueType p = 0; p < numberOfNodes; ++p)
     {
       dataEnergy += unary[p * labels.size()];
@@ -1033,6 +1058,9 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::RunLevel(unsigned 
                                   SizeValueType edge, MRFLabelingSolver::LabelType a, MRFLabelingSolver::LabelType b) {
       return this->Pairwise(edgeDifferences[edge] + labels[a] - labels[b], inverseSpacing);
     });
+    // The solver gets the time left (at least a trace, so that it stops at once when none is).
+    solver->SetMaximumRunTime(
+      this->GetMaximumRunTime() > 0.0 ? std::max(1e-9, this->GetMaximumRunTime() - this->GetElapsedRunTime()) : 0.0);
     MRFLabelingSolver::LabelingType labeling(numberOfNodes, 0);
     m_LabelingEnergyValues.push_back(solver->Solve(labeling));
 
@@ -1062,11 +1090,13 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::RunLevel(unsigned 
       {
         this->ComputeMovingIndices(data, candidateTransform, candidateIndices);
         const auto zeroUnary = this->ComputeUnaries(data, candidateIndices, zeroLabel);
-        double     candidateEnergy = this->RegularizationEnergy(candidateTransform);
+        // Summed in the order of the iteration's energy above, so that equal energies compare equal.
+        double candidateEnergy = 0.0;
         for (const double value : zeroUnary)
         {
           candidateEnergy += value;
         }
+        candidateEnergy += this->RegularizationEnergy(candidateTransform);
         accept = candidateEnergy <= energy;
         if (accept)
         {

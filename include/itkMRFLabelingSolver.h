@@ -22,6 +22,7 @@
 #include "itkNumericTraits.h"
 #include "itkObject.h"
 #include "itkObjectFactory.h"
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <ostream>
@@ -72,7 +73,8 @@ extern FFDShapeMatching_EXPORT std::ostream &
  * (\f$V(x_p,x_q) + V(\alpha,\alpha) > V(x_p,\alpha) + V(\alpha,x_q)\f$), its two mixed terms are raised until it
  * is (truncation, Rother et al. 2005), and the move is accepted only if the true energy decreases: the energy
  * never increases. Cycles over all labels repeat until none improves or MaximumNumberOfCycles is reached.
- * Max-flow is Boykov and Kolmogorov's (Debian's libmaxflow; used by this class's source file only).
+ * Max-flow is Boykov and Kolmogorov's, from Boost Graph (boykov_kolmogorov_max_flow on a compressed-sparse-row
+ * graph built once per Solve() and reused by every move; used by this class's source file only).
  *
  * \par ICM and exhaustive search
  * ICM sweeps the nodes in order, giving each the label of least conditional energy, until a sweep changes
@@ -164,6 +166,16 @@ public:
   itkSetClampMacro(MaximumNumberOfCycles, unsigned int, 1, NumericTraits<unsigned int>::max());
   itkGetConstMacro(MaximumNumberOfCycles, unsigned int);
 
+  /** Wall-clock limit of Solve() in seconds; 0 (the default) means none. AlphaExpansion checks it before each
+   * expansion move, ICM before each node; past it Solve() returns the labeling reached (whose energy never
+   * exceeds the start's) and GetTimeLimitReached() is true. Exhaustive search ignores it. A negative value is
+   * clamped to 0. */
+  itkSetClampMacro(MaximumRunTime, double, 0.0, NumericTraits<double>::max());
+  itkGetConstMacro(MaximumRunTime, double);
+
+  /** Whether the last Solve() stopped at MaximumRunTime. */
+  itkGetConstMacro(TimeLimitReached, bool);
+
   /** Energy of a labeling. Throws for a labeling of the wrong size or with a label out of range. */
   double
   ComputeEnergy(const LabelingType & labeling) const;
@@ -193,6 +205,10 @@ private:
   void
   CheckInput(const LabelingType & labeling, bool checkLabeling) const;
 
+  /** Whether MaximumRunTime has passed since Solve() started (and records it). */
+  bool
+  IsPastTimeLimit();
+
   double
   SolveAlphaExpansion(LabelingType & labeling);
 
@@ -209,6 +225,9 @@ private:
   PairwiseFunctionType                    m_PairwiseFunction{};
   AlgorithmEnum                           m_Algorithm{ AlgorithmEnum::AlphaExpansion };
   unsigned int                            m_MaximumNumberOfCycles{ 10 };
+  double                                  m_MaximumRunTime{ 0.0 };
+  bool                                    m_TimeLimitReached{ false };
+  std::chrono::steady_clock::time_point   m_StartTime{};
   unsigned int                            m_NumberOfCyclesPerformed{ 0 };
   SizeValueType                           m_NumberOfAcceptedMoves{ 0 };
   SizeValueType                           m_NumberOfTruncatedTerms{ 0 };

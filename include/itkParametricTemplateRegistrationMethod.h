@@ -24,6 +24,7 @@
 #include "itkParametricTemplateTransform.h"
 #include "itkProcessObject.h"
 #include "itkTransform.h"
+#include <chrono>
 #include <cstdint>
 #include <ostream>
 #include <string>
@@ -120,6 +121,8 @@ operator<<(std::ostream & out, const ParametricTemplateRegistrationMethodEnums::
  * The metric uses the process object's NumberOfWorkUnits. Progress is reported per optimizer iteration; an
  * IterationEvent is invoked with each, and the metric value trajectory is kept (GetMetricValues()). The result is never
  * worse than the initial weights: if the optimizer ends at a larger metric value, the initial weights are kept.
+ * A run-time limit (MaximumRunTime) stops the optimizer at its first iteration past the limit, with the weights
+ * reached (or the initial ones, if better), and skips the exact refinement.
  *
  * \par References
  * The parametric model and its (1+1) evolution strategy: "A comparative analysis of B-spline deformation models
@@ -217,6 +220,15 @@ public:
   itkSetClampMacro(NumberOfIterations, unsigned int, 1, NumericTraits<unsigned int>::max());
   itkGetConstMacro(NumberOfIterations, unsigned int);
 
+  /** Wall-clock limit of Update() in seconds; 0 (the default) means none, and a negative value is clamped to 0.
+   * Checked at every optimizer iteration: the first iteration past it stops the optimizer (the exact refinement is
+   * then skipped) and GetTimeLimitReached() is true. */
+  itkSetClampMacro(MaximumRunTime, double, 0.0, NumericTraits<double>::max());
+  itkGetConstMacro(MaximumRunTime, double);
+
+  /** Whether the last Update() stopped at MaximumRunTime. */
+  itkGetConstMacro(TimeLimitReached, bool);
+
   /** LBFGS / LBFGSB gradient tolerance, or the (1+1) strategy's search-radius (Frobenius norm) limit.
    * Default: 1e-5. */
   itkSetClampMacro(ConvergenceTolerance, double, 0.0, NumericTraits<double>::max());
@@ -311,6 +323,10 @@ private:
   BaseTransformModeEnum m_BaseTransformMode{ BaseTransformModeEnum::ProjectOntoTemplates };
   bool                  m_UseSquaredDistance{ true };
   unsigned int          m_NumberOfExactRefinementIterations{ 50 };
+  double                m_MaximumRunTime{ 0.0 };
+
+  bool                                  m_TimeLimitReached{ false };
+  std::chrono::steady_clock::time_point m_StartTime{};
 
   std::vector<double> m_MetricValues{};
   double              m_InitialMetricValue{ 0.0 };

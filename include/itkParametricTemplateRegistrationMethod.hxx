@@ -130,6 +130,8 @@ ParametricTemplateRegistrationMethod<TFixedMesh, TMovingMesh, TDistanceImage>::G
 {
   m_MetricValues.clear();
   m_StopConditionDescription.clear();
+  m_TimeLimitReached = false;
+  m_StartTime = std::chrono::steady_clock::now();
   this->UpdateProgress(0.0f);
   this->VerifyInputData();
 
@@ -153,7 +155,7 @@ ParametricTemplateRegistrationMethod<TFixedMesh, TMovingMesh, TDistanceImage>::G
   const bool refine = m_Evaluation != EvaluationEnum::ExactPointToTriangle && m_NumberOfExactRefinementIterations > 0 &&
                       this->GetMovingMesh() != nullptr;
   this->RunStage(transform, m_Evaluation, m_NumberOfIterations, true);
-  if (refine)
+  if (refine && !m_TimeLimitReached)
   {
     this->RunStage(transform, EvaluationEnum::ExactPointToTriangle, m_NumberOfExactRefinementIterations, false);
   }
@@ -267,8 +269,23 @@ ParametricTemplateRegistrationMethod<TFixedMesh, TMovingMesh, TDistanceImage>::R
   optimizer->SetMetric(metric); // unit scales: the weights are in template units
 
   const double total = static_cast<double>(m_NumberOfIterations + m_NumberOfExactRefinementIterations);
-  auto         record = [this, metric, &evolutionary, total](const EventObject &) {
+  auto         record = [this, metric, &optimizer, &evolutionary, total](const EventObject &) {
     m_MetricValues.push_back(evolutionary ? evolutionary->GetCurrentCost() : metric->GetCurrentValue());
+    if (m_MaximumRunTime > 0.0 && !m_TimeLimitReached &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - m_StartTime).count() > m_MaximumRunTime)
+    {
+      // The (1+1) strategy stops on request; the quasi-Newton optimizers end the iteration whose count reaches
+      // their maximum, lowered to 0 so that this very iteration is the last (vnl counts from 0).
+      m_TimeLimitReached = true;
+      if (evolutionary)
+      {
+        evolutionary->StopOptimization();
+      }
+      else
+      {
+        optimizer->SetNumberOfIterations(0);
+      }
+    }
     this->UpdateProgress(static_cast<float>(std::min(0.99, m_MetricValues.size() / total)));
     this->InvokeEvent(IterationEvent());
   };
@@ -285,6 +302,10 @@ ParametricTemplateRegistrationMethod<TFixedMesh, TMovingMesh, TDistanceImage>::R
   optimizer->RemoveObserver(tag);
   std::ostringstream stop;
   stop << metric->GetEvaluation() << ", " << m_Optimizer << ": " << optimizer->GetStopConditionDescription();
+  if (m_TimeLimitReached)
+  {
+    stop << " (stopped early: the run-time limit of " << m_MaximumRunTime << " s was reached)";
+  }
   m_StopConditionDescription += stop.str();
   return optimizer->GetCurrentPosition();
 }
@@ -308,6 +329,8 @@ ParametricTemplateRegistrationMethod<TFixedMesh, TMovingMesh, TDistanceImage>::P
   os << indent << "BaseTransformMode: " << m_BaseTransformMode << std::endl;
   os << indent << "UseSquaredDistance: " << (m_UseSquaredDistance ? "On" : "Off") << std::endl;
   os << indent << "NumberOfExactRefinementIterations: " << m_NumberOfExactRefinementIterations << std::endl;
+  os << indent << "MaximumRunTime: " << m_MaximumRunTime << std::endl;
+  os << indent << "TimeLimitReached: " << (m_TimeLimitReached ? "true" : "false") << std::endl;
   os << indent << "MetricValues: " << m_MetricValues.size() << " iterations" << std::endl;
   os << indent << "InitialMetricValue: " << m_InitialMetricValue << std::endl;
   os << indent << "FinalMetricValue: " << m_FinalMetricValue << std::endl;

@@ -17,14 +17,155 @@
  *=========================================================================*/
 #include "itkMRFLabelingSolver.h"
 
-#include <maxflow/graph.h>
+#include <boost/graph/boykov_kolmogorov_max_flow.hpp>
+#include <boost/graph/compressed_sparse_row_graph.hpp>
+#include <boost/property_map/property_map.hpp>
+#include <boost/range/iterator_range.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 
 namespace itk
 {
+namespace
+{
+/** The graph of an alpha-expansion move, for Boost Graph's Boykov-Kolmogorov max-flow: the nodes, a source and a
+ * sink, and for every node both terminal arcs and for every edge both directions, each arc paired with its reverse.
+ * The topology is built once (compressed sparse rows) and serves every move: a move only sets the capacities,
+ * zero where the move has no term. Arc pairs: node p's source arcs (s->p, p->s) are pair p, its sink arcs
+ * (p->t, t->p) pair N + p, edge k's arcs (first->second, second->first) pair 2N + k; in a pair, the even arc is
+ * the forward one. */
+class ExpansionGraph
+{
+public:
+  using GraphType = boost::compressed_sparse_row_graph<boost::directedS, boost::no_property, SizeValueType>;
+  using VertexType = boost::graph_traits<GraphType>::vertex_descriptor;
+  using ArcType = boost::graph_traits<GraphType>::edge_descriptor;
+
+  ExpansionGraph(SizeValueType numberOfNodes, const std::vector<MRFLabelingSolver::EdgeType> & edges)
+    : m_NumberOfNodes(numberOfNodes)
+    , m_Source(static_cast<VertexType>(numberOfNodes))
+    , m_Sink(static_cast<VertexType>(numberOfNodes + 1))
+  {
+    const SizeValueType                            numberOfArcs = 2 * (2 * numberOfNodes + edges.size());
+    std::vector<std::pair<VertexType, VertexType>> arcs(numberOfArcs);
+    std::vector<SizeValueType>                     arcNumbers(numberOfArcs);
+    const auto setPair = [&arcs, &arcNumbers](SizeValueType pair, VertexType from, VertexType to) {
+      arcs[2 * pair] = { from, to };
+      arcs[2 * pair + 1] = { to, from };
+      arcNumbers[2 * pair] = 2 * pair;
+      arcNumbers[2 * pair + 1] = 2 * pair + 1;
+    };
+    for (SizeValueType p = 0; p < numberOfNodes; ++p)
+    {
+      setPair(p, m_Source, static_cast<VertexType>(p));
+      setPair(numberOfNodes + p, static_cast<VertexType>(p), m_Sink);
+    }
+    for (SizeValueType k = 0; k < edges.size(); ++k)
+    {
+      setPair(2 * numberOfNodes + k, static_cast<VertexType>(edges[k].first), static_cast<VertexType>(edges[k].second));
+    }
+    // The graph stores the arcs grouped by tail; each keeps its number as its property.
+    m_Graph = GraphType(boost::edges_are_unsorted_multi_pass,
+                        arcs.begin(),
+                        arcs.end(),
+                        arcNumbers.begin(),
+                        static_cast<VertexType>(numberOfNodes + 2));
+    m_ArcOf.resize(numberOfArcs);
+    for (const ArcType arc : boost::make_iterator_range(boost::edges(m_Graph)))
+    {
+      m_ArcOf[m_Graph[arc]] = arc;
+    }
+    m_Reverse.resize(numberOfArcs);
+    for (SizeValueType number = 0; number < numberOfArcs; ++number)
+    {
+      m_Reverse[this->Index(m_ArcOf[number])] = m_ArcOf[number ^ 1];
+    }
+    m_Capacity.assign(numberOfArcs, 0.0);
+    m_Residual.assign(numberOfArcs, 0.0);
+    m_Predecessor.resize(numberOfNodes + 2);
+    m_Color.resize(numberOfNodes + 2);
+    m_Distance.resize(numberOfNodes + 2);
+  }
+
+  /** Clears all capacities before a move. */
+  void
+  Reset()
+  {
+    std::fill(m_Capacity.begin(), m_Capacity.end(), 0.0);
+  }
+
+  /** Terminal term of node p: \c cost is paid when p ends on the sink side (the source arc) if positive, its
+   * opposite when p ends on the source side (the sink arc) if negative. */
+  void
+  SetTerminalCapacity(SizeValueType p, double cost)
+  {
+    if (cost > 0.0)
+    {
+      m_Capacity[this->Index(m_ArcOf[2 * p])] = cost;
+    }
+    else if (cost < 0.0)
+    {
+      m_Capacity[this->Index(m_ArcOf[2 * (m_NumberOfNodes + p)])] = -cost;
+    }
+  }
+
+  /** Capacity of edge k from its first to its second node (paid when the first is on the source side and the
+   * second on the sink side). */
+  void
+  SetEdgeCapacity(SizeValueType k, double capacity)
+  {
+    m_Capacity[this->Index(m_ArcOf[2 * (2 * m_NumberOfNodes + k)])] = capacity;
+  }
+
+  void
+  Cut()
+  {
+    const auto arcIndex = boost::get(boost::edge_index, m_Graph);
+    const auto vertexIndex = boost::get(boost::vertex_index, m_Graph);
+    boost::boykov_kolmogorov_max_flow(m_Graph,
+                                      boost::make_iterator_property_map(m_Capacity.begin(), arcIndex),
+                                      boost::make_iterator_property_map(m_Residual.begin(), arcIndex),
+                                      boost::make_iterator_property_map(m_Reverse.begin(), arcIndex),
+                                      boost::make_iterator_property_map(m_Predecessor.begin(), vertexIndex),
+                                      boost::make_iterator_property_map(m_Color.begin(), vertexIndex),
+                                      boost::make_iterator_property_map(m_Distance.begin(), vertexIndex),
+                                      vertexIndex,
+                                      m_Source,
+                                      m_Sink);
+  }
+
+  /** Whether node p ends in the sink's search tree. The nodes in neither tree (free) join the source side, so the
+   * sink side is the smallest of the minimum cuts' sink sides: a move changes as few labels as it can. */
+  bool
+  IsOnSinkSide(SizeValueType p) const
+  {
+    return m_Color[p] == boost::color_traits<boost::default_color_type>::white();
+  }
+
+private:
+  SizeValueType
+  Index(const ArcType & arc) const
+  {
+    return boost::get(boost::edge_index, m_Graph, arc);
+  }
+
+  SizeValueType                          m_NumberOfNodes;
+  VertexType                             m_Source;
+  VertexType                             m_Sink;
+  GraphType                              m_Graph;
+  std::vector<ArcType>                   m_ArcOf;   // CSR arc of each arc number
+  std::vector<ArcType>                   m_Reverse; // by CSR arc index
+  std::vector<double>                    m_Capacity;
+  std::vector<double>                    m_Residual;
+  std::vector<ArcType>                   m_Predecessor;
+  std::vector<boost::default_color_type> m_Color;
+  std::vector<long>                      m_Distance;
+};
+} // namespace
+
 std::ostream &
 operator<<(std::ostream & out, const MRFLabelingSolverEnums::Algorithm value)
 {
@@ -153,9 +294,22 @@ MRFLabelingSolver::ComputeEnergy(const LabelingType & labeling) const
   return energy;
 }
 
+bool
+MRFLabelingSolver::IsPastTimeLimit()
+{
+  if (m_MaximumRunTime > 0.0 && !m_TimeLimitReached &&
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - m_StartTime).count() > m_MaximumRunTime)
+  {
+    m_TimeLimitReached = true;
+  }
+  return m_TimeLimitReached;
+}
+
 double
 MRFLabelingSolver::Solve(LabelingType & labeling)
 {
+  m_StartTime = std::chrono::steady_clock::now();
+  m_TimeLimitReached = false;
   m_NumberOfCyclesPerformed = 0;
   m_NumberOfAcceptedMoves = 0;
   m_NumberOfTruncatedTerms = 0;
@@ -175,11 +329,7 @@ MRFLabelingSolver::Solve(LabelingType & labeling)
 double
 MRFLabelingSolver::SolveAlphaExpansion(LabelingType & labeling)
 {
-  using GraphType = maxflow::Graph<double, double, double>;
-  const auto numberOfNodes = static_cast<int>(m_NumberOfNodes);
-  GraphType  graph(numberOfNodes,
-                  static_cast<int>(std::max<SizeValueType>(m_Edges.size(), 1)),
-                  [](const char * message) { itkGenericExceptionMacro(<< "Max-flow error: " << message); });
+  ExpansionGraph graph(m_NumberOfNodes, m_Edges);
   m_NodeEdges.assign(m_NumberOfNodes, {});
   for (SizeValueType k = 0; k < m_Edges.size(); ++k)
   {
@@ -205,10 +355,9 @@ MRFLabelingSolver::SolveAlphaExpansion(LabelingType & labeling)
   {
     ++m_NumberOfCyclesPerformed;
     bool improved = false;
-    for (LabelType alpha = 0; alpha < m_NumberOfLabels; ++alpha)
+    for (LabelType alpha = 0; alpha < m_NumberOfLabels && !this->IsPastTimeLimit(); ++alpha)
     {
-      graph.reset();
-      graph.add_node(numberOfNodes);
+      graph.Reset();
       for (SizeValueType p = 0; p < m_NumberOfNodes; ++p)
       {
         keepCost[p] = m_UnaryCosts[p * m_NumberOfLabels + labeling[p]];
@@ -241,22 +390,23 @@ MRFLabelingSolver::SolveAlphaExpansion(LabelingType & labeling)
         switchCost[q] += d - c;
         if (coupling > 0.0)
         {
-          graph.add_edge(static_cast<int>(p), static_cast<int>(q), coupling, 0.0);
+          graph.SetEdgeCapacity(k, coupling);
         }
       }
       for (SizeValueType p = 0; p < m_NumberOfNodes; ++p)
       {
-        // The source capacity is paid when the node ends in the sink set (y = 1), and conversely.
-        graph.add_tweights(static_cast<int>(p), switchCost[p], keepCost[p]);
+        // The switch cost is paid when the node ends on the sink side (y = 1), the keep cost on the source side;
+        // only their difference matters to the cut.
+        graph.SetTerminalCapacity(p, switchCost[p] - keepCost[p]);
       }
-      graph.maxflow();
+      graph.Cut();
 
       // The true energy change of the move, over the switched nodes and their edges.
       changedNodes.clear();
       double delta = 0.0;
       for (SizeValueType p = 0; p < m_NumberOfNodes; ++p)
       {
-        if (labeling[p] != alpha && graph.what_segment(static_cast<int>(p)) == GraphType::SINK)
+        if (labeling[p] != alpha && graph.IsOnSinkSide(p))
         {
           changedNodes.push_back(p);
           delta += m_UnaryCosts[p * m_NumberOfLabels + alpha] - m_UnaryCosts[p * m_NumberOfLabels + labeling[p]];
@@ -308,7 +458,7 @@ MRFLabelingSolver::SolveAlphaExpansion(LabelingType & labeling)
         }
       }
     }
-    if (!improved)
+    if (!improved || m_TimeLimitReached)
     {
       break;
     }
@@ -331,7 +481,7 @@ MRFLabelingSolver::SolveICM(LabelingType & labeling)
   {
     ++m_NumberOfCyclesPerformed;
     bool changed = false;
-    for (SizeValueType p = 0; p < m_NumberOfNodes; ++p)
+    for (SizeValueType p = 0; p < m_NumberOfNodes && !this->IsPastTimeLimit(); ++p)
     {
       const auto localEnergy = [this, &labeling, p](LabelType label) {
         double value = m_UnaryCosts[p * m_NumberOfLabels + label];
@@ -360,7 +510,7 @@ MRFLabelingSolver::SolveICM(LabelingType & labeling)
         changed = true;
       }
     }
-    if (!changed)
+    if (!changed || m_TimeLimitReached)
     {
       break;
     }
@@ -415,6 +565,8 @@ MRFLabelingSolver::PrintSelf(std::ostream & os, Indent indent) const
   os << indent << "PairwiseFunction: " << (m_PairwiseFunction ? "set" : "not set") << std::endl;
   os << indent << "Algorithm: " << m_Algorithm << std::endl;
   os << indent << "MaximumNumberOfCycles: " << m_MaximumNumberOfCycles << std::endl;
+  os << indent << "MaximumRunTime: " << m_MaximumRunTime << std::endl;
+  os << indent << "TimeLimitReached: " << (m_TimeLimitReached ? "true" : "false") << std::endl;
   os << indent << "NumberOfCyclesPerformed: " << m_NumberOfCyclesPerformed << std::endl;
   os << indent << "NumberOfAcceptedMoves: " << m_NumberOfAcceptedMoves << std::endl;
   os << indent << "NumberOfTruncatedTerms: " << m_NumberOfTruncatedTerms << std::endl;

@@ -26,6 +26,7 @@
 #include <chrono>
 #include <ctime>
 #include <cmath>
+#include <iomanip>
 #include <random>
 #include <sstream>
 
@@ -280,8 +281,8 @@ EnergiesNeverIncrease(const RegistrationType * registration)
   {
     if (levels[i] == levels[i - 1] && energies[i] > energies[i - 1])
     {
-      std::cerr << "Energy increased at iteration " << i << ": " << energies[i - 1] << " -> " << energies[i]
-                << std::endl;
+      std::cerr << "Energy increased at iteration " << i << ": " << std::setprecision(17) << energies[i - 1] << " -> "
+                << energies[i] << std::endl;
       return false;
     }
   }
@@ -395,7 +396,8 @@ itkBSplineMRFImageRegistrationMethodTest(int argc, char * argv[])
   int testStatus = EXIT_SUCCESS;
 
   auto registration = RegistrationType::New();
-  ITK_EXERCISE_BASIC_OBJECT_METHODS(registration, BSplineMRFImageRegistrationMethod, BSplineImageRegistrationMethodBase);
+  ITK_EXERCISE_BASIC_OBJECT_METHODS(
+    registration, BSplineMRFImageRegistrationMethod, BSplineImageRegistrationMethodBase);
   ITK_TEST_SET_GET_VALUE(20u, registration->GetNumberOfControlPointsPerAxis());
   ITK_TEST_SET_GET_VALUE(3u, registration->GetNumberOfLevels());
   ITK_TEST_SET_GET_VALUE(5u, registration->GetNumberOfIterationsPerLevel());
@@ -552,6 +554,51 @@ itkBSplineMRFImageRegistrationMethodTest(int argc, char * argv[])
   std::cout << "Huge lambda: largest control displacement about the mean " << largest << " mm (mean translation up to "
             << largestMean << " mm)" << std::endl;
   ITK_TEST_EXPECT_TRUE(largest < 0.05 * before);
+
+  // Run-time limit. A negative limit is clamped to none, as GO's.
+  ITK_TEST_SET_GET_VALUE(0.0, registration->GetMaximumRunTime());
+  ITK_TEST_EXPECT_TRUE(!registration->GetTimeLimitReached());
+  registration->SetMaximumRunTime(-1.0);
+  ITK_TEST_SET_GET_VALUE(0.0, registration->GetMaximumRunTime());
+  // A run of a huge number of iterations over many labels (the dense cube, 343 of them, at a range that does not
+  // shrink) stops within twice a limit of 0.5 s, with a valid transform on the final grid, no worse than the start.
+  registration->SetRegularizationWeight(0.5);
+  registration->SetSimilarity(SimilarityEnum::SumOfSquaredDifferences);
+  registration->SetNumberOfLevels(2);
+  registration->SetNumberOfIterationsPerLevel(1000000);
+  registration->SetLabelSet(LabelSetEnum::Dense);
+  registration->SetLabelShrinkFactor(1.0);
+  registration->SetMaximumRunTime(0.5);
+  ITK_TEST_SET_GET_VALUE(0.5, registration->GetMaximumRunTime());
+  elapsed();
+  ITK_TRY_EXPECT_NO_EXCEPTION(registration->Update());
+  {
+    const double seconds = elapsed();
+    const auto * limited = dynamic_cast<const BSplineType *>(registration->GetTransform());
+    ITK_TEST_EXPECT_TRUE(limited != nullptr);
+    bool finite = true;
+    for (unsigned int i = 0; i < limited->GetNumberOfParameters(); ++i)
+    {
+      finite = finite && std::isfinite(limited->GetParameters()[i]);
+    }
+    const double after = TrueError(testCase, limited);
+    std::cout << "Dense labels, 10^6 iterations per level, limited to 0.5 s: " << seconds << " s, "
+              << registration->GetEnergyValues().size() << " iterations, true error " << before << " -> " << after
+              << " mm" << std::endl;
+    ITK_TEST_EXPECT_TRUE(seconds < 1.0);
+    ITK_TEST_EXPECT_TRUE(registration->GetTimeLimitReached());
+    ITK_TEST_EXPECT_TRUE(finite);
+    ITK_TEST_EXPECT_EQUAL(limited->GetCoefficientImages()[0]->GetLargestPossibleRegion().GetSize()[0],
+                          registration->GetMeshSizeAtLevel(1) + 3);
+    ITK_TEST_EXPECT_TRUE(EnergiesNeverIncrease(registration));
+    ITK_TEST_EXPECT_TRUE(registration->GetMinimumJacobianDeterminant() > 0.0);
+    ITK_TEST_EXPECT_TRUE(after <= before);
+  }
+  registration->SetMaximumRunTime(0.0);
+  registration->SetLabelSet(LabelSetEnum::Sparse);
+  registration->SetLabelShrinkFactor(0.67);
+  registration->SetNumberOfIterationsPerLevel(5);
+  std::cout << registration;
 
   // The transform output is a pipeline output: it carries the transform.
   ITK_TEST_EXPECT_TRUE(registration->GetTransformOutput()->Get() == registration->GetTransform());

@@ -17,6 +17,7 @@
  *=========================================================================*/
 #include "itkMRFLabelingSolver.h"
 #include "itkTestingMacros.h"
+#include <chrono>
 #include <random>
 #include <sstream>
 
@@ -134,6 +135,82 @@ SolveWith(const RandomProblem &                                                 
   }
   return energy;
 }
+
+/** A 3-D grid graph (6-neighbours) of side n, with random unary costs and, per edge, a random pairwise table that is
+ * submodular for two labels (Potts-like with a random weight for more). */
+RandomProblem
+MakeGridProblem(std::mt19937 &                                                   random,
+                itk::SizeValueType                                               n,
+                unsigned int                                                     labels,
+                std::vector<std::pair<itk::SizeValueType, itk::SizeValueType>> & edges)
+{
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  RandomProblem                          problem{ n * n * n, labels, {}, {} };
+  for (itk::SizeValueType i = 0; i < problem.Nodes * labels; ++i)
+  {
+    problem.Unary.push_back(uniform(random));
+  }
+  edges.clear();
+  for (itk::SizeValueType z = 0; z < n; ++z)
+  {
+    for (itk::SizeValueType y = 0; y < n; ++y)
+    {
+      for (itk::SizeValueType x = 0; x < n; ++x)
+      {
+        const itk::SizeValueType p = x + n * (y + n * z);
+        if (x + 1 < n)
+        {
+          edges.emplace_back(p, p + 1);
+        }
+        if (y + 1 < n)
+        {
+          edges.emplace_back(p, p + n);
+        }
+        if (z + 1 < n)
+        {
+          edges.emplace_back(p, p + n * n);
+        }
+      }
+    }
+  }
+  for (size_t k = 0; k < edges.size(); ++k)
+  {
+    const double        weight = 0.4 * uniform(random);
+    std::vector<double> table(labels * labels, 0.0);
+    for (unsigned int a = 0; a < labels; ++a)
+    {
+      for (unsigned int b = 0; b < labels; ++b)
+      {
+        table[a * labels + b] = a == b ? 0.0 : weight;
+      }
+    }
+    problem.Tables.push_back(table);
+  }
+  return problem;
+}
+
+/** Global minimum of a chain problem (edges (p, p + 1) only) by dynamic programming. */
+double
+ChainMinimum(const RandomProblem & problem)
+{
+  const unsigned int  labels = problem.Labels;
+  std::vector<double> best(problem.Unary.begin(), problem.Unary.begin() + labels);
+  std::vector<double> next(labels);
+  for (itk::SizeValueType p = 1; p < problem.Nodes; ++p)
+  {
+    for (unsigned int b = 0; b < labels; ++b)
+    {
+      double value = std::numeric_limits<double>::max();
+      for (unsigned int a = 0; a < labels; ++a)
+      {
+        value = std::min(value, best[a] + problem.Tables[p - 1][a * labels + b]);
+      }
+      next[b] = value + problem.Unary[p * labels + b];
+    }
+    best.swap(next);
+  }
+  return *std::min_element(best.begin(), best.end());
+}
 } // namespace
 
 int
@@ -248,6 +325,106 @@ itkMRFLabelingSolverTest(int argc, char * argv[])
   }
   ITK_TEST_EXPECT_TRUE(truncated > 0);
   std::cout << "Arbitrary tables: " << truncated << " truncated expansion terms" << std::endl;
+
+  // Large graphs, where max-flow grows and repairs its search trees over many augmenting paths.
+  // A chain of 5000 nodes, two labels, submodular terms (strong couplings make long augmenting paths): the
+  // expansion is exact, checked against dynamic programming.
+  {
+    std::uniform_real_distribution<double> uniform(0.0, 1.0);
+    RandomProblem                          chain{ 5000, 2, {}, {} };
+    for (itk::SizeValueType i = 0; i < 2 * chain.Nodes; ++i)
+    {
+      chain.Unary.push_back(uniform(random));
+    }
+    edges.clear();
+    for (itk::SizeValueType p = 0; p + 1 < chain.Nodes; ++p)
+    {
+      edges.emplace_back(p, p + 1);
+      const double same00 = 0.5 * uniform(random);
+      const double same11 = 0.5 * uniform(random);
+      const double different = std::max(same00, same11) + 2.0 * uniform(random);
+      chain.Tables.push_back({ same00, different, different, same11 });
+    }
+    for (const unsigned int start : { 0u, 1u })
+    {
+      SolverType::LabelingType expansion(chain.Nodes, start);
+      const double             found = SolveWith(chain, edges, AlgorithmEnum::AlphaExpansion, expansion);
+      const double             optimum = ChainMinimum(chain);
+      std::cout << "Chain of 5000 nodes from all " << start << ": expansion " << found << ", optimum " << optimum
+                << std::endl;
+      if (std::abs(found - optimum) > 1e-9 * std::abs(optimum))
+      {
+        std::cerr << "Chain: expansion " << found << " != dynamic programming " << optimum << std::endl;
+        testStatus = EXIT_FAILURE;
+      }
+    }
+  }
+  // A 24^3 grid (13824 nodes, 39744 edges), two labels, submodular: the global minimum whatever the start (the
+  // three starts give different flow problems), strictly below ICM's, with no single label change improving it.
+  {
+    const auto               grid = MakeGridProblem(random, 24, 2, edges);
+    SolverType::LabelingType zeros(grid.Nodes, 0), ones(grid.Nodes, 1), mixed(grid.Nodes), icm(grid.Nodes, 0);
+    for (auto & label : mixed)
+    {
+      label = random() % 2;
+    }
+    const double fromZeros = SolveWith(grid, edges, AlgorithmEnum::AlphaExpansion, zeros);
+    const double fromOnes = SolveWith(grid, edges, AlgorithmEnum::AlphaExpansion, ones);
+    const double fromMixed = SolveWith(grid, edges, AlgorithmEnum::AlphaExpansion, mixed);
+    const double greedy = SolveWith(grid, edges, AlgorithmEnum::ICM, icm);
+    std::cout << "Binary 24^3 grid: expansion " << fromZeros << ", " << fromOnes << ", " << fromMixed << "; ICM "
+              << greedy << std::endl;
+    const double tolerance = 1e-9 * std::abs(fromZeros);
+    if (std::abs(fromZeros - fromOnes) > tolerance || std::abs(fromZeros - fromMixed) > tolerance ||
+        !(fromZeros < greedy - tolerance))
+    {
+      std::cerr << "Binary grid: the expansions disagree or do not beat ICM" << std::endl;
+      testStatus = EXIT_FAILURE;
+    }
+    auto check = SolverType::New();
+    grid.Load(check, edges);
+    for (itk::SizeValueType p = 0; p < grid.Nodes; p += 97)
+    {
+      auto flipped = zeros;
+      flipped[p] = 1 - flipped[p];
+      if (check->ComputeEnergy(flipped) < fromZeros - tolerance)
+      {
+        std::cerr << "Binary grid: changing node " << p << " improves the expansion's result" << std::endl;
+        testStatus = EXIT_FAILURE;
+      }
+    }
+  }
+  // The same grid with 8 labels (Potts): expansion beats ICM; with a run-time limit far below its run time, Solve()
+  // stops early with a labeling no worse than the start.
+  {
+    const auto               grid = MakeGridProblem(random, 24, 8, edges);
+    SolverType::LabelingType expansion(grid.Nodes, 0), icm(grid.Nodes, 0);
+    const double             found = SolveWith(grid, edges, AlgorithmEnum::AlphaExpansion, expansion);
+    const double             greedy = SolveWith(grid, edges, AlgorithmEnum::ICM, icm);
+    std::cout << "Potts 24^3 grid, 8 labels: expansion " << found << ", ICM " << greedy << std::endl;
+    ITK_TEST_EXPECT_TRUE(found < greedy);
+
+    auto limited = SolverType::New();
+    grid.Load(limited, edges);
+    limited->SetMaximumRunTime(-1.0);
+    ITK_TEST_SET_GET_VALUE(0.0, limited->GetMaximumRunTime()); // clamped: no limit
+    limited->SetMaximumRunTime(1e-4);
+    ITK_TEST_SET_GET_VALUE(1e-4, limited->GetMaximumRunTime());
+    SolverType::LabelingType start(grid.Nodes, 0);
+    const double             startEnergy = limited->ComputeEnergy(start);
+    const auto               begin = std::chrono::steady_clock::now();
+    const double             stopped = limited->Solve(start);
+    const double             elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+    std::cout << "Limited to 1e-4 s: " << elapsed << " s, energy " << stopped << " (start " << startEnergy << ")"
+              << std::endl;
+    ITK_TEST_EXPECT_TRUE(limited->GetTimeLimitReached());
+    ITK_TEST_EXPECT_TRUE(stopped <= startEnergy && stopped >= found - 1e-9);
+    ITK_TEST_EXPECT_TRUE(limited->GetNumberOfCyclesPerformed() == 1);
+    limited->SetMaximumRunTime(0.0);
+    SolverType::LabelingType unlimited(grid.Nodes, 0);
+    ITK_TEST_EXPECT_TRUE(std::abs(limited->Solve(unlimited) - found) < 1e-9 * std::abs(found));
+    ITK_TEST_EXPECT_TRUE(!limited->GetTimeLimitReached());
+  }
   std::cout << solver;
   return testStatus;
 }

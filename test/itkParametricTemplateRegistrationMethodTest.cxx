@@ -328,6 +328,65 @@ itkParametricTemplateRegistrationMethodTest(int argc, char * argv[])
   ITK_TEST_EXPECT_TRUE(registration->GetFinalMetricValue() <= registration->GetInitialMetricValue());
 
   // GO, then GO + Par: the GO result is the base (on the templates' grid), Par refines it through the pipeline.
+  // Run-time limit. A negative limit is clamped to none, as for the image methods.
+  ITK_TEST_SET_GET_VALUE(0.0, registration->GetMaximumRunTime());
+  registration->SetMaximumRunTime(-1.0);
+  ITK_TEST_SET_GET_VALUE(0.0, registration->GetMaximumRunTime());
+  ITK_TEST_EXPECT_TRUE(!registration->GetTimeLimitReached());
+  // A limit already past at the first iteration stops every optimizer there, and skips the exact refinement.
+  registration->SetNumberOfExactRefinementIterations(50);
+  for (const auto optimizer : { RegistrationType::OptimizerEnum::LBFGS,
+                                RegistrationType::OptimizerEnum::LBFGSB,
+                                RegistrationType::OptimizerEnum::OnePlusOneEvolutionary })
+  {
+    registration->SetOptimizer(optimizer);
+    registration->SetMaximumRunTime(1e-9);
+    ITK_TRY_EXPECT_NO_EXCEPTION(registration->Update());
+    std::cout << optimizer << " limited to 1e-9 s: " << registration->GetMetricValues().size() << " iteration(s); "
+              << registration->GetStopConditionDescription();
+    ITK_TEST_EXPECT_TRUE(registration->GetTimeLimitReached());
+    // The (1+1) strategy makes one iteration. The quasi-Newton optimizers stop at their first iteration too, but
+    // their function evaluations are iteration events as well (FunctionEvaluationIterationEvent is an
+    // IterationEvent): a few events, against hundreds without the limit.
+    const auto events = registration->GetMetricValues().size();
+    ITK_TEST_EXPECT_TRUE(
+      optimizer == RegistrationType::OptimizerEnum::OnePlusOneEvolutionary ? events == 1 : events >= 1 && events <= 5);
+    ITK_TEST_EXPECT_TRUE(registration->GetStopConditionDescription().find("stopped early") != std::string::npos);
+    ITK_TEST_EXPECT_TRUE(registration->GetFinalMetricValue() <= registration->GetInitialMetricValue());
+    ITK_TEST_EXPECT_TRUE(registration->GetParametricTransform() != nullptr);
+  }
+  // A run of a huge number of (slow, exact) iterations that would not converge stops within twice a limit of 0.5 s,
+  // with a valid transform no worse than the start.
+  registration->SetOptimizer(RegistrationType::OptimizerEnum::OnePlusOneEvolutionary);
+  registration->SetEvaluation(RegistrationType::EvaluationEnum::ExactPointToTriangle);
+  registration->SetConvergenceTolerance(0.0);
+  registration->SetNumberOfIterations(100000000);
+  registration->SetMaximumRunTime(0.5);
+  ITK_TEST_SET_GET_VALUE(0.5, registration->GetMaximumRunTime());
+  clock = std::chrono::steady_clock::now();
+  ITK_TRY_EXPECT_NO_EXCEPTION(registration->Update());
+  {
+    const double seconds = SecondsSince(clock);
+    const auto * limited = registration->GetParametricTransform();
+    bool         finite = limited != nullptr;
+    for (unsigned int i = 0; finite && i < limited->GetNumberOfParameters(); ++i)
+    {
+      finite = std::isfinite(limited->GetParameters()[i]);
+    }
+    std::cout << "par (1+1 ES, 10^8 exact iterations) limited to 0.5 s: " << seconds << " s, "
+              << registration->GetMetricValues().size() << " iterations, true error "
+              << TrueError(example, registration->GetTransform()) << " mm" << std::endl;
+    ITK_TEST_EXPECT_TRUE(seconds < 1.0);
+    ITK_TEST_EXPECT_TRUE(registration->GetTimeLimitReached());
+    ITK_TEST_EXPECT_TRUE(finite);
+    ITK_TEST_EXPECT_TRUE(registration->GetFinalMetricValue() <= registration->GetInitialMetricValue());
+    ITK_TEST_EXPECT_TRUE(TrueError(example, registration->GetTransform()) <= errorBefore);
+  }
+  registration->SetMaximumRunTime(0.0);
+  registration->SetEvaluation(RegistrationType::EvaluationEnum::LinearDistanceMap);
+  registration->SetConvergenceTolerance(1e-5);
+  std::cout << registration;
+
   auto go = MakeGO(example);
   clock = std::chrono::steady_clock::now();
   ITK_TRY_EXPECT_NO_EXCEPTION(go->Update());
