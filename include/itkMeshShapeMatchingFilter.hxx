@@ -247,6 +247,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::RegisterVoxels(MethodEnum method) -> con
   registration->SetRejectFoldingUpdates(true);
   registration->SetUseImagePyramid(m_MRFUseImagePyramid);
   registration->SetNumberOfSolverCycles(1);
+  registration->SetMaximumRunTime(m_MaximumRunTime);
   try
   {
     registration->Update();
@@ -261,7 +262,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::RegisterVoxels(MethodEnum method) -> con
   stop << "mrf: " << registration->GetEnergyValues().size() << " iterations, "
        << registration->GetNumberOfRejectedUpdates() << " updates rejected";
   m_StopConditionDescription = stop.str();
-  m_TimeLimitReached = false;
+  m_TimeLimitReached = registration->GetTimeLimitReached();
   return registration->GetTransformOutput();
 }
 
@@ -270,7 +271,6 @@ auto
 MeshShapeMatchingFilter<TMesh, TImage>::RegisterMeshes(const DecoratedTransformType * base, double timeLimit)
   -> const DecoratedTransformType *
 {
-  (void)timeLimit;
   ParRegistrationType * registration = m_ParRegistration;
   registration->SetFixedMesh(this->GetTargetMesh());
   registration->SetMovingMesh(this->GetSourceMesh());
@@ -282,6 +282,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::RegisterMeshes(const DecoratedTransformT
     registration->SetNumberOfIterations(m_NumberOfIterations);
   }
   registration->SetRandomSeed(m_RandomSeed);
+  registration->SetMaximumRunTime(timeLimit);
   try
   {
     registration->Update();
@@ -290,6 +291,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::RegisterMeshes(const DecoratedTransformT
   {
     itkExceptionMacro(<< "registration failed: " << error.GetDescription());
   }
+  m_TimeLimitReached = registration->GetTimeLimitReached();
   const std::string voxelName = base != nullptr ? m_MetricName + ", then " : std::string();
   const std::string voxelStop = base != nullptr ? m_StopConditionDescription : std::string();
   m_MetricValues = registration->GetMetricValues();
