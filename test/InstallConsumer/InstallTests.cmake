@@ -48,7 +48,7 @@ add_test(NAME FFDShapeMatchingInstallConsumerBuild
     "-DCXX_FLAGS=${_ffd_consumer_cxx_flags}" "-DLINKER_FLAGS=${CMAKE_EXE_LINKER_FLAGS}"
     -DLAUNCHER=${CMAKE_CXX_COMPILER_LAUNCHER} -P ${_ffd_consumer_source}/BuildConsumer.cmake)
 set_tests_properties(FFDShapeMatchingInstallConsumerBuild PROPERTIES
-  FIXTURES_REQUIRED FFDShapeMatchingInstalled FIXTURES_SETUP FFDShapeMatchingInstallConsumerBuilt TIMEOUT 300)
+  FIXTURES_REQUIRED FFDShapeMatchingInstalled FIXTURES_SETUP FFDShapeMatchingInstallConsumerBuilt TIMEOUT 900)
 
 # Through cmake -E env: the program exists only once the fixture has built it.
 add_test(NAME FFDShapeMatchingInstallConsumerRun
