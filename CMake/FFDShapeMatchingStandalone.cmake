@@ -126,7 +126,23 @@ if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/src/CMakeLists.txt)
   add_subdirectory(src)
 endif()
 if(TARGET ${itk-module})
-  install(EXPORT ${itk-module}Targets NAMESPACE ${itk-module}:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/${itk-module})
+  # The CMake package: find_package(FFDShapeMatching) + FFDShapeMatching::FFDShapeMatching (README, "Install and
+  # use from your project"). The configuration finds ITK (the module's DEPENDS), VTK and Eigen again.
+  include(CMakePackageConfigHelpers)
+  set(_ffd_package_dir ${CMAKE_INSTALL_LIBDIR}/cmake/${itk-module})
+  install(EXPORT ${itk-module}Targets NAMESPACE ${itk-module}:: DESTINATION ${_ffd_package_dir})
+  string(REPLACE ";" " " FFDShapeMatching_CONFIG_ITK_COMPONENTS "${ITK_MODULE_${itk-module}_DEPENDS}")
+  string(REPLACE ";" " " FFDShapeMatching_CONFIG_VTK_COMPONENTS "${FFDShapeMatching_VTK_COMPONENTS}")
+  set(FFDShapeMatching_CONFIG_INCLUDE_DIR ${CMAKE_INSTALL_INCLUDEDIR}/${itk-module})
+  configure_package_config_file(${CMAKE_CURRENT_SOURCE_DIR}/CMake/${itk-module}Config.cmake.in
+    ${CMAKE_CURRENT_BINARY_DIR}/${itk-module}Config.cmake
+    INSTALL_DESTINATION ${_ffd_package_dir}
+    PATH_VARS FFDShapeMatching_CONFIG_INCLUDE_DIR CMAKE_INSTALL_BINDIR)
+  write_basic_package_version_file(${CMAKE_CURRENT_BINARY_DIR}/${itk-module}ConfigVersion.cmake
+    VERSION ${PROJECT_VERSION} COMPATIBILITY SameMajorVersion)
+  install(FILES ${CMAKE_CURRENT_BINARY_DIR}/${itk-module}Config.cmake
+    ${CMAKE_CURRENT_BINARY_DIR}/${itk-module}ConfigVersion.cmake DESTINATION ${_ffd_package_dir})
+  set(FFDShapeMatching_PACKAGE_CONFIGURED TRUE)
 endif()
 
 # --- the test API -----------------------------------------------------------------------
