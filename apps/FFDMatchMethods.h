@@ -38,7 +38,9 @@
 
 namespace ffd
 {
-using MeshType = itk::Mesh<double, 3>;
+// Double coordinates from reading to writing (itk::Mesh<double, 3> stores float coordinates, which move a vertex
+// 1e7 mm from the origin by up to 0.5 mm); the same type as FFDSnapshot.h's DoubleCoordinateMeshType.
+using MeshType = itk::Mesh<double, 3, itk::DefaultStaticMeshTraits<double, 3, 3, double, double, double>>;
 using ImageType = itk::Image<float, 3>;
 using MaskImageType = itk::Image<unsigned char, 3>;
 using TransformType = itk::Transform<double, 3, 3>;
@@ -74,8 +76,8 @@ struct Options
   double       foldingWeight{ 0.0 };
   double       mrfWeight{ 1.0 };
   bool         mrfPyramid{ false }; // method mrf: smooth and shrink the images at coarse levels
-  double       timeLimit{ 0.0 };   // seconds of registration, 0 = none
-  double       memoryLimit{ 0.0 }; // MB, 0 = from the available memory
+  double       timeLimit{ 0.0 };    // seconds of registration, 0 = none
+  double       memoryLimit{ 0.0 };  // MB, 0 = from the available memory
   bool         demo{ false };
   std::string  outputDir{ "demo-output" };
   bool         gridGiven{ false };

@@ -18,6 +18,7 @@
 // ffd-match, methods par, go+par and mrf+par: ParametricTemplateRegistrationMethod on the meshes themselves, with
 // templates from --templates; after go or mrf, their B-spline result is the starting point.
 
+#include "FFDInputFiles.h"
 #include "FFDMatchMethods.h"
 #include "FFDProgramSupport.h"
 #include "itkCompositeTransform.h"
@@ -44,6 +45,7 @@ using BSplineType = ParametricTransformType::BSplineTransformType;
 ParametricTransformType::Pointer
 ReadTemplates(const Options & options)
 {
+  CheckTemplatesFile<Error>(options.templates);
   itk::RegisterFFDShapeMatchingTransforms();
   // ITK's reader builds B-spline grids from unchecked values (a negative size is undefined behaviour).
   const std::string fileProblem = itk::FindProblemInTextTransformFile(options.templates);

@@ -28,6 +28,7 @@
 
 #include "FFDMatchMethods.h"
 #include "FFDProgramMeshIO.h"
+#include "FFDProgramMessages.h"
 #include "FFDProgramSupport.h"
 #include "FFDSnapshot.h"
 #include "itkApplyTransformToMeshFilter.h"
@@ -1320,6 +1321,7 @@ RunDemo(Options options)
 int
 main(int argc, char * argv[])
 {
+  ffd::CollectLibraryMessages();
   try
   {
     const Options options = ParseArguments(argc, argv);
@@ -1340,6 +1342,10 @@ main(int argc, char * argv[])
   catch (const itk::ExceptionObject & error)
   {
     std::cerr << "ffd-match: error: " << OneLine(error.GetDescription()) << std::endl;
+  }
+  catch (const std::bad_alloc &)
+  {
+    std::cerr << "ffd-match: error: not enough memory to finish the run" << std::endl;
   }
   catch (const std::exception & error)
   {

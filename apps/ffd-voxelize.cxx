@@ -25,6 +25,8 @@
 // The output is written to a temporary file next to OUTPUT_IMAGE and renamed, so a failed run
 // leaves nothing half-written. Errors are one line on stderr and a non-zero exit code.
 
+#include "FFDInputFiles.h"
+#include "FFDProgramMessages.h"
 #include "FFDProgramSupport.h"
 #include "itkImageFileReader.h"
 #include "itkImageFileWriter.h"
@@ -50,7 +52,8 @@
 
 namespace
 {
-using MeshType = itk::Mesh<double, 3>;
+// Double coordinates (itk::Mesh<double, 3> stores float coordinates).
+using MeshType = itk::Mesh<double, 3, itk::DefaultStaticMeshTraits<double, 3, 3, double, double, double>>;
 using MaskImageType = itk::Image<unsigned char, 3>;
 using RealImageType = itk::Image<float, 3>;
 using ModeEnum = itk::TriangleMeshToVoxelImageFilterEnums::Mode;
@@ -58,6 +61,9 @@ using ffd::ClockType;
 using ffd::JsonString;
 using ffd::OneLine;
 using ffd::SecondsSince;
+
+// What the run is doing, for the message when memory runs out ("not enough memory to ...").
+std::string CurrentTask = "start";
 
 const char * const Usage =
   "usage: ffd-voxelize MESH OUTPUT_IMAGE --mode occupancy|solid|sdf|band|winding --voxel-size S\n"
@@ -267,16 +273,20 @@ Run(const Options & options, ModeEnum mode, const MeshType * mesh, double readSe
   typename ReferenceReaderType::Pointer referenceReader;
   if (!options.referenceFile.empty())
   {
+    CurrentTask = "read the reference image";
+    ffd::CheckInputFile<std::runtime_error>(options.referenceFile, "reference image", ffd::MaximumImageFileSize);
     referenceReader = ReferenceReaderType::New();
     referenceReader->SetFileName(options.referenceFile);
     try
     {
+      // MetaIO and NIfTI print their complaints on stderr before ITK throws: kept off it.
+      ffd::LibraryOutputCapture capture;
       referenceReader->UpdateOutputInformation();
     }
     catch (const itk::ExceptionObject & error)
     {
       throw std::runtime_error("cannot read reference image '" + options.referenceFile +
-                               "': " + error.GetDescription());
+                               "': " + OneLine(error.GetDescription()));
     }
     filter->SetReferenceImage(referenceReader->GetOutput());
   }
@@ -287,6 +297,7 @@ Run(const Options & options, ModeEnum mode, const MeshType * mesh, double readSe
     filter->SetGeometryFromMeshBounds(spacing, options.margin);
   }
 
+  CurrentTask = "voxelize the mesh";
   const auto start = ClockType::now();
   filter->Update();
   const double   voxelizeSeconds = SecondsSince(start);
@@ -304,6 +315,7 @@ Run(const Options & options, ModeEnum mode, const MeshType * mesh, double readSe
     maximum = std::max(maximum, value);
   }
 
+  CurrentTask = "write the image";
   const auto        writeStart = ClockType::now();
   const std::string temporary = TemporaryName(options.outputFile);
   try
@@ -378,6 +390,7 @@ Run(const Options & options, ModeEnum mode, const MeshType * mesh, double readSe
 int
 main(int argc, char * argv[])
 {
+  ffd::CollectLibraryMessages();
   Options options;
   try
   {
@@ -396,15 +409,14 @@ main(int argc, char * argv[])
       itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(options.threads);
     }
     itk::RegisterFFDShapeMatchingMeshIOFactories();
-    if (!std::ifstream(options.meshFile).good())
-    {
-      throw std::runtime_error("cannot read mesh '" + options.meshFile + "': no such readable file");
-    }
+    CurrentTask = "read the mesh";
+    ffd::CheckInputFile<std::runtime_error>(options.meshFile, "mesh", ffd::MaximumMeshFileSize);
     const auto readStart = ClockType::now();
     auto       reader = itk::MeshFileReader<MeshType>::New();
     reader->SetFileName(options.meshFile);
     try
     {
+      ffd::LibraryOutputCapture capture;
       reader->Update();
     }
     catch (const itk::ExceptionObject & error)
@@ -435,6 +447,10 @@ main(int argc, char * argv[])
   catch (const itk::ExceptionObject & error)
   {
     std::cerr << "ffd-voxelize: error: " << OneLine(error.GetDescription()) << std::endl;
+  }
+  catch (const std::bad_alloc &)
+  {
+    std::cerr << "ffd-voxelize: error: not enough memory to " << CurrentTask << std::endl;
   }
   catch (const std::exception & error)
   {
