@@ -30,6 +30,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <unistd.h>
 
@@ -80,9 +81,10 @@ FarTetrahedron()
   return mesh;
 }
 
-// The largest coordinate difference after writing mesh to fileName and reading it back.
+// The largest coordinate difference after writing mesh to fileName and reading it back: point by point, or, with
+// anyOrder (STL keeps no point ids: VTK's reader merges and renumbers them), to the nearest point read.
 double
-RoundTripError(const MeshType * mesh, const std::string & fileName)
+RoundTripError(const MeshType * mesh, const std::string & fileName, bool anyOrder = false)
 {
   auto writer = itk::MeshFileWriter<MeshType>::New();
   writer->SetInput(mesh);
@@ -93,13 +95,26 @@ RoundTripError(const MeshType * mesh, const std::string & fileName)
   reader->Update();
   const MeshType * read = reader->GetOutput();
   EXPECT_EQ(read->GetNumberOfPoints(), mesh->GetNumberOfPoints()) << fileName;
-  double largest = 0.0;
-  for (MeshType::PointIdentifier i = 0; i < std::min(read->GetNumberOfPoints(), mesh->GetNumberOfPoints()); ++i)
-  {
+  const auto difference = [&](MeshType::PointIdentifier i, MeshType::PointIdentifier j) {
+    double largest = 0.0;
     for (unsigned int k = 0; k < 3; ++k)
     {
-      largest = std::max(largest, std::abs(read->GetPoint(i)[k] - mesh->GetPoint(i)[k]));
+      largest = std::max(largest, std::abs(read->GetPoint(j)[k] - mesh->GetPoint(i)[k]));
     }
+    return largest;
+  };
+  double largest = 0.0;
+  for (MeshType::PointIdentifier i = 0; i < mesh->GetNumberOfPoints(); ++i)
+  {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (MeshType::PointIdentifier j = 0; j < read->GetNumberOfPoints(); ++j)
+    {
+      if (anyOrder || j == i)
+      {
+        nearest = std::min(nearest, difference(i, j));
+      }
+    }
+    largest = std::max(largest, nearest);
   }
   return largest;
 }
@@ -121,7 +136,7 @@ TEST(MeshFileIO, DoublePrecisionFarFromTheOrigin)
   for (const char * extension : { ".stl", ".ply" })
   {
     const std::string fileName = (folder / (std::string("far") + extension)).string();
-    const double      error = RoundTripError(mesh, fileName);
+    const double      error = RoundTripError(mesh, fileName, true);
     EXPECT_LE(error, 0.5) << fileName;
     EXPECT_GT(error, 1.0e-6) << fileName << ": float32 no longer; update the README's \"Limits and errors\"";
   }
