@@ -33,7 +33,9 @@
 
 namespace ffd
 {
-using MeshType = itk::Mesh<double, 3>;
+// Double coordinates from reading to writing (itk::Mesh<double, 3> stores float coordinates, which move a vertex
+// 1e7 mm from the origin by up to 0.5 mm); the same type as FFDSnapshot.h's DoubleCoordinateMeshType.
+using MeshType = itk::Mesh<double, 3, itk::DefaultStaticMeshTraits<double, 3, 3, double, double, double>>;
 using ImageType = itk::Image<float, 3>;
 
 /** A failure of the run: one line for the user, exit code 1. */

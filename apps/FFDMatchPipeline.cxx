@@ -19,6 +19,7 @@
 // progress lines.
 
 #include "FFDMatchPipeline.h"
+#include "FFDInputFiles.h"
 #include "FFDProgramSupport.h"
 #include "itkCompositeTransform.h"
 #include "itkRegisterFFDShapeMatchingTransforms.h"
@@ -43,6 +44,7 @@ using BSplineType = ParametricTransformType::BSplineTransformType;
 ParametricTransformType::Pointer
 ReadTemplates(const Options & options)
 {
+  CheckTemplatesFile<Error>(options.templates);
   itk::RegisterFFDShapeMatchingTransforms();
   // ITK's reader builds B-spline grids from unchecked values (a negative size is undefined behaviour).
   const std::string fileProblem = itk::FindProblemInTextTransformFile(options.templates);

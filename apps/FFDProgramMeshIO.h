@@ -21,6 +21,7 @@
 // Mesh reading, writing and normalization shared by the module's command-line programs (ffd-match and the benchmark
 // programs): every refusal is one line naming the file and the problem, thrown as the program's own error type.
 
+#include "FFDInputFiles.h"
 #include "FFDProgramSupport.h"
 #include "itkMeshFileReader.h"
 #include "itkMeshFileWriter.h"
@@ -37,22 +38,28 @@
 
 namespace ffd
 {
-/** Reads the mesh \c fileName (\c role names it in messages: "source", "target", ...) and checks it: a readable
- * regular file, points present and finite, at least one triangle or polygon cell. Throws \c TError otherwise. */
+/** Reads the mesh \c fileName (\c role names it in messages: "source", "target", ...) and checks it: a readable,
+ * non-empty regular file of at most \c maximumSize bytes (CheckInputFile: a FIFO or a device is refused before any
+ * reader opens it), points present and finite, at least one triangle or polygon cell. Throws \c TError otherwise.
+ * The messages VTK and ITK give while reading are kept off stderr (LibraryOutputCapture); a refusal quotes the
+ * reader's exception. */
 template <typename TError, typename TMesh>
 typename TMesh::Pointer
-ReadCheckedMesh(const std::string & fileName, const std::string & role)
+ReadCheckedMesh(const std::string & fileName,
+                const std::string & role,
+                std::uintmax_t      maximumSize = MaximumMeshFileSize)
 {
-  std::error_code fileError;
-  if (!std::ifstream(fileName).good() || !std::filesystem::is_regular_file(fileName, fileError))
-  {
-    throw TError("cannot read " + role + " mesh '" + fileName + "': no such readable file");
-  }
+  CheckInputFile<TError>(fileName, role + " mesh", maximumSize);
   auto reader = itk::MeshFileReader<TMesh>::New();
   reader->SetFileName(fileName);
   try
   {
+    LibraryOutputCapture capture; // what VTK's and ITK's readers print on stderr before they fail
     reader->Update();
+  }
+  catch (const std::bad_alloc &)
+  {
+    throw TError("not enough memory to read " + role + " mesh '" + fileName + "'");
   }
   catch (const itk::ExceptionObject & error)
   {

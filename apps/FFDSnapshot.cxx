@@ -78,7 +78,7 @@ public:
 
 // The mesh for rendering, with \c values (one per vertex, if given) as its scalars.
 vtkSmartPointer<vtkPolyData>
-ToPolyData(const itk::Mesh<double, 3> * mesh, const std::vector<double> * values = nullptr)
+ToPolyData(const DoubleCoordinateMeshType * mesh, const std::vector<double> * values = nullptr)
 {
   auto polyData = vtkSmartPointer<vtkPolyData>::New();
   itk::MeshToVTKPolyData(mesh, polyData, "");
@@ -137,7 +137,7 @@ Label(const std::string & text, int size, double x, double y)
 
 // The target coloured by per-vertex distances.
 vtkSmartPointer<vtkActor>
-ColouredActor(const itk::Mesh<double, 3> * mesh, const std::vector<double> & values, vtkLookupTable * colours)
+ColouredActor(const DoubleCoordinateMeshType * mesh, const std::vector<double> & values, vtkLookupTable * colours)
 {
   const auto                polyData = ToPolyData(mesh, &values);
   vtkNew<vtkPolyDataMapper> mapper;
@@ -165,13 +165,13 @@ SnapshotPossible(std::string & why)
 }
 
 void
-WriteSnapshot(const itk::Mesh<double, 3> * source,
-              const itk::Mesh<double, 3> * deformed,
-              const itk::Mesh<double, 3> * target,
-              const std::vector<double> &  beforeDistances,
-              const std::vector<double> &  afterDistances,
-              const std::string &          title,
-              const std::string &          fileName)
+WriteSnapshot(const DoubleCoordinateMeshType * source,
+              const DoubleCoordinateMeshType * deformed,
+              const DoubleCoordinateMeshType * target,
+              const std::vector<double> &      beforeDistances,
+              const std::vector<double> &      afterDistances,
+              const std::string &              title,
+              const std::string &              fileName)
 {
   std::string why;
   if (!SnapshotPossible(why))

@@ -27,6 +27,11 @@
 
 namespace ffd
 {
+/** The programs' mesh: double coordinates (itk::Mesh<double, 3> stores float coordinates, which move a vertex 1e7 mm
+ * from the origin by up to 0.5 mm). */
+using DoubleCoordinateMeshType =
+  itk::Mesh<double, 3, itk::DefaultStaticMeshTraits<double, 3, 3, double, double, double>>;
+
 /** Whether off-screen rendering can start here (VTK's X11 render window needs a display; run the
  * program under xvfb-run on a machine without one). On false, \c why says what is missing. */
 bool
@@ -38,13 +43,13 @@ SnapshotPossible(std::string & why);
  * \c beforeDistances and \c afterDistances, in the target's point order (the quantity behind the mean
  * directed distance that ffd-match reports). Throws std::runtime_error when rendering or writing fails. */
 void
-WriteSnapshot(const itk::Mesh<double, 3> * source,
-              const itk::Mesh<double, 3> * deformed,
-              const itk::Mesh<double, 3> * target,
-              const std::vector<double> &  beforeDistances,
-              const std::vector<double> &  afterDistances,
-              const std::string &          title,
-              const std::string &          fileName);
+WriteSnapshot(const DoubleCoordinateMeshType * source,
+              const DoubleCoordinateMeshType * deformed,
+              const DoubleCoordinateMeshType * target,
+              const std::vector<double> &      beforeDistances,
+              const std::vector<double> &      afterDistances,
+              const std::string &              title,
+              const std::string &              fileName);
 } // namespace ffd
 
 #endif

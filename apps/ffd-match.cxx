@@ -30,6 +30,7 @@
 #include "FFDMatchReport.h"
 #include "FFDOutputFiles.h"
 #include "FFDProgramMeshIO.h"
+#include "FFDProgramMessages.h"
 #include "FFDProgramSupport.h"
 #include "FFDSnapshot.h"
 #include "itkMeshSurfaceDistanceCalculator.h"
@@ -313,6 +314,7 @@ Match(const Options & options, const GroundTruth * truth, const std::string & de
 int
 main(int argc, char * argv[])
 {
+  ffd::CollectLibraryMessages();
   try
   {
     const ffd::Options options = ffd::ParseArguments(argc, argv);

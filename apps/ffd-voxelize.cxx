@@ -26,7 +26,9 @@
 // place together (ffd::OutputFiles), so a failed run changes no file. Errors are one line on stderr and a non-zero
 // exit code.
 
+#include "FFDInputFiles.h"
 #include "FFDOutputFiles.h"
+#include "FFDProgramMessages.h"
 #include "FFDProgramSupport.h"
 #include "itkImageFileReader.h"
 #include "itkImageFileWriter.h"
@@ -53,7 +55,8 @@
 
 namespace
 {
-using MeshType = itk::Mesh<double, 3>;
+// Double coordinates (itk::Mesh<double, 3> stores float coordinates).
+using MeshType = itk::Mesh<double, 3, itk::DefaultStaticMeshTraits<double, 3, 3, double, double, double>>;
 using MaskImageType = itk::Image<unsigned char, 3>;
 using RealImageType = itk::Image<float, 3>;
 using ModeEnum = itk::TriangleMeshToVoxelImageFilterEnums::Mode;
@@ -61,6 +64,9 @@ using ffd::ClockType;
 using ffd::JsonString;
 using ffd::OneLine;
 using ffd::SecondsSince;
+
+// What the run is doing, for the message when memory runs out ("not enough memory to ...").
+std::string CurrentTask = "start";
 
 const char * const Usage =
   "usage: ffd-voxelize MESH OUTPUT_IMAGE --mode occupancy|solid|sdf|band|winding --voxel-size S\n"
@@ -292,16 +298,20 @@ Run(const Options &     options,
   typename ReferenceReaderType::Pointer referenceReader;
   if (!options.referenceFile.empty())
   {
+    CurrentTask = "read the reference image";
+    ffd::CheckInputFile<std::runtime_error>(options.referenceFile, "reference image", ffd::MaximumImageFileSize);
     referenceReader = ReferenceReaderType::New();
     referenceReader->SetFileName(options.referenceFile);
     try
     {
+      // MetaIO and NIfTI print their complaints on stderr before ITK throws: kept off it.
+      ffd::LibraryOutputCapture capture;
       referenceReader->UpdateOutputInformation();
     }
     catch (const itk::ExceptionObject & error)
     {
       throw std::runtime_error("cannot read reference image '" + options.referenceFile +
-                               "': " + error.GetDescription());
+                               "': " + OneLine(error.GetDescription()));
     }
     filter->SetReferenceImage(referenceReader->GetOutput());
   }
@@ -312,6 +322,7 @@ Run(const Options &     options,
     filter->SetGeometryFromMeshBounds(spacing, options.margin);
   }
 
+  CurrentTask = "voxelize the mesh";
   const auto start = ClockType::now();
   filter->Update();
   const double   voxelizeSeconds = SecondsSince(start);
@@ -329,6 +340,7 @@ Run(const Options &     options,
     maximum = std::max(maximum, value);
   }
 
+  CurrentTask = "write the image";
   const auto writeStart = ClockType::now();
   try
   {
@@ -400,6 +412,7 @@ Run(const Options &     options,
 int
 main(int argc, char * argv[])
 {
+  ffd::CollectLibraryMessages();
   Options options;
   try
   {
@@ -418,17 +431,16 @@ main(int argc, char * argv[])
       itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(options.threads);
     }
     itk::RegisterFFDShapeMatchingMeshIOFactories();
+    CurrentTask = "read the mesh";
+    ffd::CheckInputFile<std::runtime_error>(options.meshFile, "mesh", ffd::MaximumMeshFileSize);
     ffd::OutputFiles  outputs("ffd-voxelize");
     const OutputNames names = DeclareOutputs(options, outputs);
-    if (!std::ifstream(options.meshFile).good())
-    {
-      throw std::runtime_error("cannot read mesh '" + options.meshFile + "': no such readable file");
-    }
-    const auto readStart = ClockType::now();
-    auto       reader = itk::MeshFileReader<MeshType>::New();
+    const auto        readStart = ClockType::now();
+    auto              reader = itk::MeshFileReader<MeshType>::New();
     reader->SetFileName(options.meshFile);
     try
     {
+      ffd::LibraryOutputCapture capture;
       reader->Update();
     }
     catch (const itk::ExceptionObject & error)
@@ -459,6 +471,10 @@ main(int argc, char * argv[])
   catch (const itk::ExceptionObject & error)
   {
     std::cerr << "ffd-voxelize: error: " << OneLine(error.GetDescription()) << std::endl;
+  }
+  catch (const std::bad_alloc &)
+  {
+    std::cerr << "ffd-voxelize: error: not enough memory to " << CurrentTask << std::endl;
   }
   catch (const std::exception & error)
   {

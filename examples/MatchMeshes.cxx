@@ -18,7 +18,8 @@ main(int argc, char * argv[])
     std::cerr << "usage: " << argv[0] << " SOURCE TARGET OUTPUT [CONTROL_POINTS_PER_AXIS] [VOXEL_SIZE]\n";
     return EXIT_FAILURE;
   }
-  using MeshType = itk::Mesh<double, 3>;
+  // Double-precision coordinates (itk::Mesh<double, 3> stores its points as float).
+  using MeshType = itk::Mesh<double, 3, itk::DefaultStaticMeshTraits<double, 3, 3, double, double, double>>;
   itk::RegisterFFDShapeMatchingMeshIOFactories(); // STL, PLY, VTP and the strict OFF/OBJ/VTK readers
   try
   {

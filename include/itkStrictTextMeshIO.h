@@ -41,8 +41,7 @@ struct StrictTextMeshIOInternals;
  * VTKPolyDataMeshIO loop forever. This class reads the same files into the same meshes, but
  * parses the whole file in ReadMeshInformation() and accepts it only when it is complete and
  * consistent:
- * - every coordinate is a finite number (and fits a float when the file declares floats, as OFF
- *   and OBJ coordinates are read as float, like ITK does);
+ * - every coordinate is a finite number (and fits a float when a VTK file declares floats);
  * - the counts announced (OFF header, VTK section headers) match the data, and the file holds
  *   nothing after the data it announces (OFF);
  * - every vertex index is an integer referring to an existing vertex;
@@ -57,12 +56,13 @@ struct StrictTextMeshIOInternals;
  *   starts a comment, values after a vertex's 3 coordinates or a face's indices (colors) are
  *   ignored. The COFF, NOFF, 4OFF, nOFF, STOFF variants and binary OFF are refused with a message
  *   saying so. Faces become TRIANGLE_CELL when all faces are triangles, POLYGON_CELL otherwise
- *   (as OFFMeshIO does). Coordinates: float.
+ *   (as OFFMeshIO does). Coordinates: double (ITK's OFFMeshIO reads float, which moves a vertex
+ *   1e7 mm from the origin by up to 0.5 mm).
  * - OBJ (".obj"): "v" lines (3 coordinates; a 4th weight or vertex colors are ignored) and "f"
  *   lines, with the "i", "i/t", "i//n", "i/t/n" forms and negative (relative) indices. Faces
  *   become POLYGON_CELL (as OBJMeshIO does; MeshFileReader makes a triangle of a 3-point
  *   polygon). Normals, texture coordinates, lines, groups and materials are not read; unknown
- *   statements are refused. Coordinates: float.
+ *   statements are refused. Coordinates: double.
  * - Legacy VTK (".vtk"): "# vtk DataFile Version" files, ASCII or BINARY (big-endian), DATASET
  *   POLYDATA with POINTS and VERTICES, LINES, POLYGONS, TRIANGLE_STRIPS in the classic
  *   (count + indices) or the version 5 (OFFSETS + CONNECTIVITY) layout. Vertices become
@@ -70,7 +70,8 @@ struct StrictTextMeshIOInternals;
  *   VTKPolyDataMeshIO does) and each triangle of a strip a TRIANGLE_CELL. POINT_DATA: the first
  *   one-component SCALARS array is read as point data (double); the other point and cell
  *   attributes are checked for length and skipped; a METADATA block ends the reading. Other
- *   datasets (UNSTRUCTURED_GRID, ...) are refused. Coordinates: float or double, as declared.
+ *   datasets (UNSTRUCTURED_GRID, ...) are refused. Coordinates: double, except binary float data
+ *   (float); ASCII values declared float must fit a float and keep all their digits.
  *
  * A complete file that announces no vertices ("OFF 0 0 0", "POINTS 0 float") gives an empty
  * mesh, as with ITK's readers, for the caller to judge; an empty file or an OBJ file without

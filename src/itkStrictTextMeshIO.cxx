@@ -448,7 +448,7 @@ ParseOFF(const std::string & text, detail::StrictTextMeshIOInternals & mesh)
   CheckTrailingNumbers(cursor, "the numbers of vertices, faces and edges");
   cursor.SkipRestOfLine();
 
-  mesh.FloatPoints = true;
+  mesh.FloatPoints = false; // read as double: a float would move a vertex 1e7 mm from the origin by up to 0.5 mm
   mesh.Points.reserve(3 * BoundedReserve(numberOfVertices, cursor.Remaining(), 6));
   for (unsigned long long vertex = 0; vertex < numberOfVertices; ++vertex)
   {
@@ -471,7 +471,7 @@ ParseOFF(const std::string & text, detail::StrictTextMeshIOInternals & mesh)
       {
         FailAtLine(line, "expected 3 coordinates of vertex " + std::to_string(vertex) + ", found " + Quote(token));
       }
-      const std::string problem = CoordinateProblem(value, outOfRange, true);
+      const std::string problem = CoordinateProblem(value, outOfRange, false);
       if (!problem.empty())
       {
         FailAtLine(line, "vertex " + std::to_string(vertex) + " has " + problem + " (" + Quote(token) + ")");
@@ -575,7 +575,7 @@ ParseOBJ(const std::string & text, detail::StrictTextMeshIOInternals & mesh)
   };
   std::vector<PendingIndex>   pending; // positive indices, checked once all vertices are known
   std::vector<IdentifierType> ids;
-  mesh.FloatPoints = true;
+  mesh.FloatPoints = false; // read as double: a float would move a vertex 1e7 mm from the origin by up to 0.5 mm
   while (!cursor.AtEnd())
   {
     const std::size_t line = cursor.Line();
@@ -602,7 +602,7 @@ ParseOBJ(const std::string & text, detail::StrictTextMeshIOInternals & mesh)
         {
           FailAtLine(line, "expected 3 coordinates of " + name + ", found " + Quote(token));
         }
-        const std::string problem = CoordinateProblem(value, outOfRange, true);
+        const std::string problem = CoordinateProblem(value, outOfRange, false);
         if (!problem.empty())
         {
           FailAtLine(line, name + " has " + problem + " (" + Quote(token) + ")");
@@ -1029,9 +1029,11 @@ private:
                  "POINTS announces " + std::to_string(numberOfPoints) + " points, more than the " +
                    std::to_string(m_Cursor.Remaining()) + " bytes left in the file can hold");
     }
-    m_Mesh.FloatPoints = type.Name != "double" && type.Name != "vtktypefloat64";
+    // Declared floats must fit a float; ASCII values keep every digit written (read as double), binary ones are
+    // float data.
+    const bool asFloat = type.Name != "double" && type.Name != "vtktypefloat64";
+    m_Mesh.FloatPoints = m_Binary && asFloat;
     m_Mesh.Points.reserve(3 * BoundedReserve(numberOfPoints, m_Cursor.Remaining(), m_Binary ? 12 : 6));
-    const bool asFloat = m_Mesh.FloatPoints;
     m_Mesh.Points.clear();
     this->ReadValues(
       3 * numberOfPoints,

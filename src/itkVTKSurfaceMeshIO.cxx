@@ -319,7 +319,7 @@ CheckPLYFile(const std::string & fileName)
     }
     const std::vector<std::string> words = SplitPLYLine(text);
     // The i-th word after the keyword, or "" when the line has fewer words.
-    auto word = [&words](std::size_t i) { return i < words.size() ? words[i] : std::string(); };
+    auto              word = [&words](std::size_t i) { return i < words.size() ? words[i] : std::string(); };
     const std::string keyword = word(0);
     if (lineNumber == 1 || keyword.empty() || keyword == "comment" || keyword == "obj_info")
     {
@@ -523,7 +523,89 @@ CheckPLYFile(const std::string & fileName)
   return "";
 }
 
-/** Checks what VTK's XML PolyData reader does not check before it uses it: the points' array must have 3
+/** The deepest nesting of XML elements a VTP file may have: VTK's files use 5-8 levels (VTKFile, PolyData, Piece,
+ * Points, DataArray, InformationKey, ...). VTK's expat-based parser recurses per level and overflows the stack
+ * somewhere between 100 000 and 300 000 levels. */
+constexpr std::size_t MaximumVTPNestingDepth = 256;
+
+/** The nesting depth of the XML elements in content (comments, CDATA, processing instructions and declarations
+ * skipped, quoted attribute values honoured), scanned up to the <AppendedData> element, whose raw binary data is
+ * not XML; the scan stops as soon as the depth passes limit. */
+std::size_t
+XMLNestingDepth(const std::string & content, std::size_t limit)
+{
+  std::size_t depth = 0;
+  std::size_t deepest = 0;
+  std::size_t at = content.find('<');
+  const auto  skipPast = [&](const char * end, std::size_t from) {
+    const std::size_t found = content.find(end, from);
+    return found == std::string::npos ? std::string::npos : found + std::strlen(end);
+  };
+  while (at != std::string::npos && at + 1 < content.size())
+  {
+    if (content.compare(at, 4, "<!--") == 0)
+    {
+      at = skipPast("-->", at + 4);
+    }
+    else if (content.compare(at, 9, "<![CDATA[") == 0)
+    {
+      at = skipPast("]]>", at + 9);
+    }
+    else if (content[at + 1] == '?' || content[at + 1] == '!')
+    {
+      at = skipPast(">", at + 2);
+    }
+    else if (content[at + 1] == '/')
+    {
+      depth -= depth > 0 ? 1 : 0;
+      at = skipPast(">", at + 2);
+    }
+    else
+    {
+      if (content.compare(at + 1, 12, "AppendedData") == 0)
+      {
+        break;
+      }
+      // The end of the tag: a '>' outside quoted attribute values; "/>" closes an empty element.
+      std::size_t end = at + 1;
+      char        quote = 0;
+      for (; end < content.size(); ++end)
+      {
+        const char c = content[end];
+        if (quote != 0)
+        {
+          quote = c == quote ? 0 : quote;
+        }
+        else if (c == '"' || c == '\'')
+        {
+          quote = c;
+        }
+        else if (c == '>')
+        {
+          break;
+        }
+      }
+      if (end >= content.size())
+      {
+        break;
+      }
+      if (content[end - 1] != '/')
+      {
+        deepest = std::max(deepest, ++depth);
+        if (deepest > limit)
+        {
+          break;
+        }
+      }
+      at = end + 1;
+    }
+    at = at == std::string::npos ? at : content.find('<', at);
+  }
+  return deepest;
+}
+
+/** Checks what VTK's XML PolyData reader does not check before it uses it: the XML must not nest deeper than
+ * MaximumVTPNestingDepth (VTK's parser would overflow the stack), and the points' array must have 3
  * components (VTK 9.1 leaks the arrays it read when it has another number). A light scan of the first <Points>
  * element's first <DataArray> tag; everything else (XML syntax, data, encodings) is left to VTK's reader, which
  * reports it. Returns the problem, or "". */
@@ -532,6 +614,12 @@ CheckVTPFile(const std::string & fileName)
 {
   std::ifstream     file(fileName, std::ios::binary);
   const std::string content((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const std::size_t depth = XMLNestingDepth(content, MaximumVTPNestingDepth);
+  if (depth > MaximumVTPNestingDepth)
+  {
+    return "its XML nests elements more than " + std::to_string(MaximumVTPNestingDepth) +
+           " levels deep (a VTP file needs fewer than 10): refused, as VTK's XML parser would overflow the stack";
+  }
   std::string::size_type points = content.find("<Points");
   while (points != std::string::npos && points + 7 < content.size() && content[points + 7] != '>' &&
          !std::isspace(static_cast<unsigned char>(content[points + 7])))
@@ -549,9 +637,9 @@ CheckVTPFile(const std::string & fileName)
     return "";
   }
   const std::string::size_type tagEnd = content.find('>', array);
-  const std::string            tag = content.substr(array, tagEnd == std::string::npos ? std::string::npos : tagEnd - array);
-  std::string                  components = "1"; // VTK's default when the attribute is missing
-  const std::string            attribute = "NumberOfComponents=";
+  const std::string tag = content.substr(array, tagEnd == std::string::npos ? std::string::npos : tagEnd - array);
+  std::string       components = "1"; // VTK's default when the attribute is missing
+  const std::string attribute = "NumberOfComponents=";
   const std::string::size_type at = tag.find(attribute);
   if (at != std::string::npos && at + attribute.size() < tag.size())
   {
