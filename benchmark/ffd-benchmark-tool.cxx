@@ -505,9 +505,9 @@ RunCase(const ArgumentMap & options)
        << ",\n  \"generator_seed\": " << usedSeed << ",\n  \"attempts\": " << attempts << ",\n  \"scale\": " << scale
        << ",\n  \"fraction\": " << fraction << ",\n  \"grid\": " << grid << ",\n  \"margin\": " << margin
        << ",\n  \"noise\": "
-       << (regime == "paper"
-             ? "{ \"type\": \"ClippedGaussian\", \"sigma\": 1, \"clip\": 1 }"
-             : "{ \"type\": \"SmoothedGaussian\", \"smoothing_sigma\": 2.5, \"rms_control\": " + ffd::JsonNumber(rms) + " }")
+       << (regime == "paper" ? "{ \"type\": \"ClippedGaussian\", \"sigma\": 1, \"clip\": 1 }"
+                             : "{ \"type\": \"SmoothedGaussian\", \"smoothing_sigma\": 2.5, \"rms_control\": " +
+                                 ffd::JsonNumber(rms) + " }")
        << ",\n  \"min_jacobian_determinant\": " << ffd::JsonNumber(generator->GetMinimumJacobianDeterminant())
        << ",\n  \"max_jacobian_determinant\": " << ffd::JsonNumber(generator->GetMaximumJacobianDeterminant())
        << ",\n  \"region_low\": [" << regionLow[0] << ", " << regionLow[1] << ", " << regionLow[2] << "]"

@@ -210,7 +210,8 @@ ThreadTimesJson(const std::vector<ThreadTime> & times)
   out << "[";
   for (std::size_t i = 0; i < times.size(); ++i)
   {
-    out << (i ? ", " : "") << "{\"threads\": " << times[i].threads << ", \"seconds\": " << ffd::JsonNumber(times[i].seconds)
+    out << (i ? ", " : "") << "{\"threads\": " << times[i].threads
+        << ", \"seconds\": " << ffd::JsonNumber(times[i].seconds)
         << ", \"cpu_seconds\": " << ffd::JsonNumber(times[i].cpuSeconds) << "}";
   }
   out << "]";
@@ -243,7 +244,7 @@ RunInverse(const Options & options, std::ostringstream & json)
   generator->Generate();
   const GeneratorType::TransformType * transform = generator->GetTransform();
   const auto &                         gridSpacing = transform->GetCoefficientImages()[0]->GetSpacing();
-  const double spacing = std::max({ gridSpacing[0], gridSpacing[1], gridSpacing[2] });
+  const double                         spacing = std::max({ gridSpacing[0], gridSpacing[1], gridSpacing[2] });
   std::cerr << "inverse: " << mesh->GetNumberOfPoints() << " vertices, " << NumberOfTriangles(mesh)
             << " triangles, grid " << options.grid << "^3 (spacing up to " << spacing << " mm), min det J "
             << generator->GetMinimumJacobianDeterminant() << std::endl;
@@ -315,9 +316,9 @@ RunInverse(const Options & options, std::ostringstream & json)
   json << "\"inverse\": {\"mesh\": " << ffd::JsonString(options.inverseMesh)
        << ", \"vertices\": " << mesh->GetNumberOfPoints() << ", \"triangles\": " << NumberOfTriangles(mesh)
        << ", \"scale_to_mm\": " << ffd::JsonNumber(options.scaleTo) << ", \"grid\": " << options.grid
-       << ", \"control_spacing_mm\": " << ffd::JsonNumber(spacing) << ", \"margin_mm\": " << ffd::JsonNumber(options.margin)
-       << ", \"sigma_mm\": " << ffd::JsonNumber(options.sigma) << ", \"clip_mm\": " << ffd::JsonNumber(options.clip)
-       << ", \"seed\": " << options.seed
+       << ", \"control_spacing_mm\": " << ffd::JsonNumber(spacing)
+       << ", \"margin_mm\": " << ffd::JsonNumber(options.margin) << ", \"sigma_mm\": " << ffd::JsonNumber(options.sigma)
+       << ", \"clip_mm\": " << ffd::JsonNumber(options.clip) << ", \"seed\": " << options.seed
        << ", \"min_jacobian_determinant\": " << ffd::JsonNumber(generator->GetMinimumJacobianDeterminant())
        << ", \"tolerance_mm\": " << ffd::JsonNumber(filter->GetInverseTolerance())
        << ", \"max_iterations\": " << filter->GetMaximumNumberOfInverseIterations()
@@ -325,7 +326,8 @@ RunInverse(const Options & options, std::ostringstream & json)
        << ", \"converged_percent\": " << ffd::JsonNumber(percent)
        << ", \"non_converged\": " << filter->GetNumberOfNonConvergedPoints()
        << ", \"max_round_trip_error_converged_mm\": " << ffd::JsonNumber(maximumConverged)
-       << ", \"mean_round_trip_error_converged_mm\": " << ffd::JsonNumber(sumConverged / std::max<double>(1, numberConverged))
+       << ", \"mean_round_trip_error_converged_mm\": "
+       << ffd::JsonNumber(sumConverged / std::max<double>(1, numberConverged))
        << ", \"max_round_trip_error_all_mm\": " << ffd::JsonNumber(maximumAll)
        << ", \"max_vertex_displacement_mm\": " << ffd::JsonNumber(maximumDisplacement)
        << ", \"same_result_for_all_thread_counts\": " << (sameAcrossThreads ? "true" : "false") << "}";
@@ -485,13 +487,15 @@ RunDistances(const Options & options, std::ostringstream & json)
        << ", \"deform_rms_mm\": " << ffd::JsonNumber(options.deformRMS)
        << ", \"deform_min_jacobian_determinant\": " << ffd::JsonNumber(generator->GetMinimumJacobianDeterminant())
        << ", \"module_times\": " << ThreadTimesJson(moduleTimes) << ", \"vtk_seconds\": " << ffd::JsonNumber(vtkSeconds)
-       << ", \"vtk_cpu_seconds\": " << ffd::JsonNumber(vtkCPUSeconds) << ", \"module_hausdorff_mm\": " << ffd::JsonNumber(moduleHausdorff)
-       << ", \"module_directed_hausdorff_mm\": [" << ffd::JsonNumber(moduleHausdorffAB) << ", " << ffd::JsonNumber(moduleHausdorffBA)
-       << "], \"module_mean_mm\": [" << ffd::JsonNumber(Mean(moduleAB)) << ", " << ffd::JsonNumber(Mean(moduleBA))
+       << ", \"vtk_cpu_seconds\": " << ffd::JsonNumber(vtkCPUSeconds)
+       << ", \"module_hausdorff_mm\": " << ffd::JsonNumber(moduleHausdorff) << ", \"module_directed_hausdorff_mm\": ["
+       << ffd::JsonNumber(moduleHausdorffAB) << ", " << ffd::JsonNumber(moduleHausdorffBA) << "], \"module_mean_mm\": ["
+       << ffd::JsonNumber(Mean(moduleAB)) << ", " << ffd::JsonNumber(Mean(moduleBA))
        << "], \"vtk_hausdorff_mm\": " << ffd::JsonNumber(vtkHausdorff) << ", \"vtk_relative_distance_mm\": ["
-       << ffd::JsonNumber(vtkRelative[0]) << ", " << ffd::JsonNumber(vtkRelative[1]) << "], \"vtk_mean_mm\": [" << ffd::JsonNumber(Mean(vtkAB))
-       << ", " << ffd::JsonNumber(Mean(vtkBA)) << "], \"max_vertex_difference_mm\": [" << ffd::JsonNumber(differenceAB) << ", "
-       << ffd::JsonNumber(differenceBA) << "], \"max_hausdorff_difference_mm\": " << ffd::JsonNumber(differenceHausdorff) << "}";
+       << ffd::JsonNumber(vtkRelative[0]) << ", " << ffd::JsonNumber(vtkRelative[1]) << "], \"vtk_mean_mm\": ["
+       << ffd::JsonNumber(Mean(vtkAB)) << ", " << ffd::JsonNumber(Mean(vtkBA)) << "], \"max_vertex_difference_mm\": ["
+       << ffd::JsonNumber(differenceAB) << ", " << ffd::JsonNumber(differenceBA)
+       << "], \"max_hausdorff_difference_mm\": " << ffd::JsonNumber(differenceHausdorff) << "}";
 
   if (!(std::max(differenceAB, differenceBA) < 1e-6) || !(differenceHausdorff < 1e-6))
   {

@@ -33,9 +33,9 @@ namespace itk
  * respect to the transform's parameters (the control-point displacements):
  *
  * - the <b>bending energy</b>, the thin-plate energy of the displacement averaged over the transform domain,
- *   \f[ E_b = \frac{1}{|\Omega|}\int_\Omega \sum_{d}\sum_{a,b} \Big(\frac{\partial^2 u_d}{\partial x_a \partial x_b}\Big)^2 dx, \f]
- *   evaluated exactly: it is a quadratic form \f$\sum_d c_d^T K c_d\f$ in the coefficients, where \f$K\f$ is a
- *   sum of Kronecker products of one-dimensional Gram matrices of the B-spline basis and its derivatives
+ *   \f[ E_b = \frac{1}{|\Omega|}\int_\Omega \sum_{d}\sum_{a,b} \Big(\frac{\partial^2 u_d}{\partial x_a \partial
+ * x_b}\Big)^2 dx, \f] evaluated exactly: it is a quadratic form \f$\sum_d c_d^T K c_d\f$ in the coefficients, where
+ * \f$K\f$ is a sum of Kronecker products of one-dimensional Gram matrices of the B-spline basis and its derivatives
  *   (integrated exactly by Gauss-Legendre quadrature on each knot span);
  * - the <b>folding penalty</b>, the mean over regular samples of the domain (FoldingSamplesPerCell per axis in
  *   each control-grid cell) of \f$\max(0, \tau - \det J(x))^2\f$, where \f$J\f$ is the spatial Jacobian of

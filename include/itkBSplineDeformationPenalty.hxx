@@ -94,8 +94,8 @@ DeterminantAndCofactors(const double (&m)[NDimensions][NDimensions], double (&co
 template <typename TParametersValueType, unsigned int NDimensions>
 auto
 BSplineDeformationPenalty<TParametersValueType, NDimensions>::Evaluate(const BSplineTransformType & transform,
-                                                                        DerivativeType *             gradient,
-                                                                        double gradientFactor) -> MeasureType
+                                                                       DerivativeType *             gradient,
+                                                                       double gradientFactor) -> MeasureType
 {
   if (gradient != nullptr && gradient->GetSize() != transform.GetNumberOfParameters())
   {
@@ -170,7 +170,7 @@ BSplineDeformationPenalty<TParametersValueType, NDimensions>::ApplySeparable(
   const TParametersValueType *                coefficients,
   std::vector<double> &                       result) const
 {
-  size_t total = 1;
+  size_t                          total = 1;
   std::array<size_t, NDimensions> size{};
   for (unsigned int axis = 0; axis < NDimensions; ++axis)
   {
@@ -179,7 +179,7 @@ BSplineDeformationPenalty<TParametersValueType, NDimensions>::ApplySeparable(
   }
   std::vector<double> current(coefficients, coefficients + total);
   std::vector<double> next(total);
-  size_t stride = 1;
+  size_t              stride = 1;
   for (unsigned int axis = 0; axis < NDimensions; ++axis)
   {
     const size_t           n = size[axis];
@@ -218,9 +218,9 @@ BSplineDeformationPenalty<TParametersValueType, NDimensions>::EvaluateBendingEne
 {
   const MeshSizeType meshSize = transform.GetTransformDomainMeshSize();
   this->UpdateGramMatrices(meshSize);
-  const auto   spacing = transform.GetCoefficientImages()[0]->GetSpacing();
-  double       cellCount = 1.0;
-  size_t       numberOfControlPoints = 1;
+  const auto spacing = transform.GetCoefficientImages()[0]->GetSpacing();
+  double     cellCount = 1.0;
+  size_t     numberOfControlPoints = 1;
   for (unsigned int axis = 0; axis < NDimensions; ++axis)
   {
     cellCount *= meshSize[axis];
@@ -308,11 +308,11 @@ BSplineDeformationPenalty<TParametersValueType, NDimensions>::EvaluateFoldingPen
     supportSize *= support;
   }
 
-  double                                           penalty = 0.0;
-  double                                           minimumDeterminant = NumericTraits<double>::max();
-  std::array<size_t, NDimensions>                  sample{};
-  std::vector<std::array<double, NDimensions>>     basisGradients(supportSize);
-  std::vector<size_t>                              controlIndices(supportSize);
+  double                                       penalty = 0.0;
+  double                                       minimumDeterminant = NumericTraits<double>::max();
+  std::array<size_t, NDimensions>              sample{};
+  std::vector<std::array<double, NDimensions>> basisGradients(supportSize);
+  std::vector<size_t>                          controlIndices(supportSize);
   for (size_t s = 0; s < numberOfSamples; ++s)
   {
     // Basis values and parametric derivatives along each axis at this sample.

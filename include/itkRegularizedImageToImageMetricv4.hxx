@@ -84,7 +84,7 @@ RegularizedImageToImageMetricv4<TImageToImageMetric>::GetDerivative(DerivativeTy
 template <typename TImageToImageMetric>
 void
 RegularizedImageToImageMetricv4<TImageToImageMetric>::GetValueAndDerivative(MeasureType &    value,
-                                                                             DerivativeType & derivative) const
+                                                                            DerivativeType & derivative) const
 {
   Superclass::GetValueAndDerivative(value, derivative);
   m_LastImageMetricValue = value;

@@ -44,10 +44,10 @@ constexpr double MaximumBSplineGridSizeAlongAxis = 65536.0;
  * every value finite, spacings positive. When numberOfParameters is not negative, it must equal dimension times the
  * number of grid points. Returns the problem in one line, or "" when the values make a valid grid. */
 FFDShapeMatching_EXPORT std::string
-FindProblemInBSplineFixedParameters(const double * fixedParameters,
-                                    std::size_t    numberOfFixedParameters,
-                                    unsigned int   dimension,
-                                    long long      numberOfParameters = -1);
+                        FindProblemInBSplineFixedParameters(const double * fixedParameters,
+                                                            std::size_t    numberOfFixedParameters,
+                                                            unsigned int   dimension,
+                                                            long long      numberOfParameters = -1);
 
 /** Checks an ITK text transform file (.tfm, .txt: "Transform:", "Parameters:", "FixedParameters:" lines) for what
  * ITK's reader does not check: every value a finite number, and the fixed parameters of every BSplineTransform
@@ -55,7 +55,7 @@ FindProblemInBSplineFixedParameters(const double * fixedParameters,
  * are a B-spline grid). Returns the problem in one line naming the transform, or "" (also for files that are not
  * text transform files: ITK's reader reports those). */
 FFDShapeMatching_EXPORT std::string
-FindProblemInTextTransformFile(const std::string & fileName);
+                        FindProblemInTextTransformFile(const std::string & fileName);
 } // namespace itk
 
 #endif // itkTransformFileChecks_h

@@ -397,7 +397,7 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::PrepareScanLines()
   const long                    j1 = j0 + static_cast<long>(region.GetSize(1)) - 1;
   const long                    k0 = region.GetIndex(2);
   const long                    k1 = k0 + static_cast<long>(region.GetSize(2)) - 1;
-  const bool needSign = this->ModeNeedsSign();
+  const bool                    needSign = this->ModeNeedsSign();
   m_CrossingBins.Build(
     needSign ? m_IndexTriangles : std::vector<detail::IndexSpaceTriangle>{}, j0, j1, k0, k1, 0.0, 0.0);
 
@@ -1109,8 +1109,8 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::GenerateByScanLines(co
   const double bandSquared = band * band;
   const bool   needSign = this->ModeNeedsSign();
   const bool   needReach = this->ModeIsReachOnly() || (m_Mode == ModeEnum::SignedDistance && !m_ExactDistance);
-  const long first = region.GetIndex(0);
-  const auto count = static_cast<size_t>(region.GetSize(0));
+  const long   first = region.GetIndex(0);
+  const auto   count = static_cast<size_t>(region.GetSize(0));
   // Distance between neighbouring voxel centres of a row (for the exact distance's warm start).
   double step = 0.0;
   for (unsigned int d = 0; d < 3; ++d)

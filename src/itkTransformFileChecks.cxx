@@ -135,8 +135,8 @@ FindProblemInTextTransformFileAtDepth(const std::string & fileName, unsigned int
     const char         last = name.back();
     const unsigned int dimension = last >= '1' && last <= '9' ? static_cast<unsigned int>(last - '0') : 3;
     const long long    numberOfParameters = bspline ? static_cast<long long>(parameters.size()) : -1;
-    const std::string  problem =
-      FindProblemInBSplineFixedParameters(fixedParameters.data(), fixedParameters.size(), dimension, numberOfParameters);
+    const std::string  problem = FindProblemInBSplineFixedParameters(
+      fixedParameters.data(), fixedParameters.size(), dimension, numberOfParameters);
     return problem.empty() ? "" : "transform " + name + " (line " + std::to_string(transformLine) + "): " + problem;
   };
   std::string line;

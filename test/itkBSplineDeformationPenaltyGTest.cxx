@@ -53,8 +53,8 @@ MakeTransform(unsigned int meshSize)
 std::vector<itk::Point<double, 3>>
 ControlPointPositions(const TransformType & transform)
 {
-  const auto                         image = transform.GetCoefficientImages()[0];
-  std::vector<itk::Point<double, 3>> positions;
+  const auto                                                       image = transform.GetCoefficientImages()[0];
+  std::vector<itk::Point<double, 3>>                               positions;
   itk::ImageRegionConstIteratorWithIndex<TransformType::ImageType> it(image, image->GetLargestPossibleRegion());
   for (; !it.IsAtEnd(); ++it)
   {
@@ -119,8 +119,8 @@ TEST(BSplineDeformationPenalty, BasicObject)
 
 TEST(BSplineDeformationPenalty, AffineDisplacementHasNoBendingEnergy)
 {
-  auto transform = MakeTransform(5);
-  auto positions = ControlPointPositions(*transform);
+  auto                          transform = MakeTransform(5);
+  auto                          positions = ControlPointPositions(*transform);
   const size_t                  n = positions.size();
   TransformType::ParametersType parameters(3 * n);
   for (size_t k = 0; k < n; ++k)
@@ -140,10 +140,10 @@ TEST(BSplineDeformationPenalty, QuadraticDisplacementHasExactBendingEnergy)
 {
   // Cubic B-splines reproduce x^2 with coefficients x_k^2 - h^2/3: then d^2u_x/dx^2 = 2 everywhere and the
   // domain-averaged bending energy is exactly 4.
-  auto         transform = MakeTransform(4);
-  auto         positions = ControlPointPositions(*transform);
-  const double h = transform->GetCoefficientImages()[0]->GetSpacing()[0];
-  const size_t n = positions.size();
+  auto                          transform = MakeTransform(4);
+  auto                          positions = ControlPointPositions(*transform);
+  const double                  h = transform->GetCoefficientImages()[0]->GetSpacing()[0];
+  const size_t                  n = positions.size();
   TransformType::ParametersType parameters(3 * n);
   parameters.Fill(0.0);
   for (size_t k = 0; k < n; ++k)

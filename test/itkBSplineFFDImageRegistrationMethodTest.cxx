@@ -186,7 +186,8 @@ itkBSplineFFDImageRegistrationMethodTest(int argc, char * argv[])
   std::cout << "Derivative check: " << elapsed() << " s" << std::endl;
 
   auto registration = RegistrationType::New();
-  ITK_EXERCISE_BASIC_OBJECT_METHODS(registration, BSplineFFDImageRegistrationMethod, BSplineImageRegistrationMethodBase);
+  ITK_EXERCISE_BASIC_OBJECT_METHODS(
+    registration, BSplineFFDImageRegistrationMethod, BSplineImageRegistrationMethodBase);
   ITK_TEST_SET_GET_VALUE(20u, registration->GetNumberOfControlPointsPerAxis());
   registration->SetNumberOfControlPointsPerAxis(2);
   ITK_TEST_SET_GET_VALUE(4u, registration->GetNumberOfControlPointsPerAxis());

@@ -49,7 +49,7 @@ TEST(FFDShapeMatchingEnums, SpellingRoundTrips)
 {
   for (const auto method : { MethodEnum::GO, MethodEnum::MRF, MethodEnum::Par, MethodEnum::GOPar, MethodEnum::MRFPar })
   {
-    MethodEnum parsed = MethodEnum::GO;
+    MethodEnum        parsed = MethodEnum::GO;
     const std::string spelling = itk::FFDShapeMatchingEnums::MethodToString(method);
     ASSERT_TRUE(itk::FFDShapeMatchingEnums::MethodFromString(spelling, parsed)) << spelling;
     EXPECT_EQ(parsed, method);

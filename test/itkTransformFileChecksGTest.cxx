@@ -77,8 +77,8 @@ TEST(TransformFileChecks, RefusesBadGrids)
 TEST(TransformFileChecks, AcceptsWhatITKWrites)
 {
   using BSplineType = itk::BSplineTransform<double, 3, 3>;
-  auto                          bspline = BSplineType::New();
-  BSplineType::MeshSizeType     meshSize;
+  auto                                bspline = BSplineType::New();
+  BSplineType::MeshSizeType           meshSize;
   BSplineType::PhysicalDimensionsType dimensions;
   meshSize.Fill(3);
   dimensions.Fill(50.0);
@@ -106,11 +106,12 @@ TEST(TransformFileChecks, RefusesDamagedFiles)
   const std::string header = "#Insight Transform File V1.0\n#Transform 0\nTransform: BSplineTransform_double_3_3\n";
   const std::string fixed = "FixedParameters: 1 1 2 0 0 0 1 1 1 1 0 0 0 1 0 0 0 1\n";
   // Good: 2 points, 6 parameters, in either order, with spaces ITK trims.
-  EXPECT_EQ(itk::FindProblemInTextTransformFile(
-              WriteText("checks-good.tfm", header + "  Parameters: 0 1 2 3 4 5\n" + fixed)),
-            "");
-  EXPECT_EQ(itk::FindProblemInTextTransformFile(WriteText("checks-order.tfm", header + fixed + "Parameters: 0 1 2 3 4 5\n")),
-            "");
+  EXPECT_EQ(
+    itk::FindProblemInTextTransformFile(WriteText("checks-good.tfm", header + "  Parameters: 0 1 2 3 4 5\n" + fixed)),
+    "");
+  EXPECT_EQ(
+    itk::FindProblemInTextTransformFile(WriteText("checks-order.tfm", header + fixed + "Parameters: 0 1 2 3 4 5\n")),
+    "");
   EXPECT_NE(itk::FindProblemInTextTransformFile(WriteText("checks-count.tfm", header + "Parameters: 0 1 2\n" + fixed))
               .find("transform BSplineTransform_double_3_3 (line 3): the B-spline grid has 2 points, which need 6 "
                     "parameters, there are 3"),

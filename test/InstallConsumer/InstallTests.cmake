@@ -56,3 +56,23 @@ add_test(NAME FFDShapeMatchingInstallConsumerRun
     ${CMAKE_CURRENT_LIST_DIR}/box.ply)
 set_tests_properties(FFDShapeMatchingInstallConsumerRun PROPERTIES FIXTURES_REQUIRED FFDShapeMatchingInstallConsumerBuilt
   PASS_REGULAR_EXPRESSION "cube.off: 8 points, 12 cells\n.*box.ply: 8 points, 12 cells\nvoxelized 12x12x8, 256 inside")
+
+# The README's example built against the prefix writes the same mesh, byte for byte, as the installed ffd-match
+# --method go with the same grid and voxel size (on the demo's meshes).
+if(FFDShapeMatching_BUILD_APPLICATIONS)
+  set(_ffd_demo ${ITK_TEST_OUTPUT_DIR}/ffd-match-demo)
+  add_test(NAME FFDShapeMatchingInstalledExample
+    COMMAND ${CMAKE_COMMAND} -E env ${_ffd_consumer_build}/MatchMeshes ${_ffd_demo}/source.vtp ${_ffd_demo}/target.vtp
+      ${_ffd_consumer_work}/example.off 8 2)
+  add_test(NAME FFDShapeMatchingInstalledExampleProgram
+    COMMAND ${_ffd_prefix}/${CMAKE_INSTALL_BINDIR}/ffd-match --source ${_ffd_demo}/source.vtp
+      --target ${_ffd_demo}/target.vtp --method go --grid 8 --voxel-size 2 --output ${_ffd_consumer_work}/program.off)
+  add_test(NAME FFDShapeMatchingInstalledExampleSameAsProgram
+    COMMAND ${CMAKE_COMMAND} -E compare_files ${_ffd_consumer_work}/example.off ${_ffd_consumer_work}/program.off)
+  set_tests_properties(FFDShapeMatchingInstalledExample PROPERTIES DEPENDS ffd-matchDemo
+    FIXTURES_REQUIRED FFDShapeMatchingInstallConsumerBuilt TIMEOUT 120)
+  set_tests_properties(FFDShapeMatchingInstalledExampleProgram PROPERTIES DEPENDS ffd-matchDemo
+    FIXTURES_REQUIRED FFDShapeMatchingInstalled TIMEOUT 120)
+  set_tests_properties(FFDShapeMatchingInstalledExampleSameAsProgram PROPERTIES
+    DEPENDS "FFDShapeMatchingInstalledExample;FFDShapeMatchingInstalledExampleProgram")
+endif()
