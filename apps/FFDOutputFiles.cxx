@@ -171,10 +171,11 @@ SyncFolder(const std::string & path)
 
 struct OutputFiles::Entry
 {
-  std::string path;      // as the user gave it
-  std::string what;      // the option, for messages
-  std::string temporary; // where the content is written (empty for a device)
-  std::string backup;    // the previous file during Commit(), to restore on failure
+  std::string path;        // as the user gave it
+  std::string destination; // where the file is renamed to: the path, or the file a symbolic link names
+  std::string what;        // the option, for messages
+  std::string temporary;   // where the content is written (empty for a device)
+  std::string backup;      // the previous file during Commit(), to restore on failure
   std::size_t slot{ MaximumTemporaries };
   bool        device{ false }; // a character device or FIFO, written in place
   bool        text{ false };
@@ -241,6 +242,12 @@ OutputFiles::Add(const std::string &              path,
   auto        entry = std::make_unique<Entry>();
   struct stat existing;
   const bool  exists = stat(path.c_str(), &existing) == 0;
+  struct stat linkStat;
+  const bool  isLink = lstat(path.c_str(), &linkStat) == 0 && S_ISLNK(linkStat.st_mode);
+  if (isLink && !exists)
+  {
+    throw std::runtime_error("cannot write " + what + " '" + path + "': a symbolic link to nothing");
+  }
   if (exists)
   {
     if (S_ISDIR(existing.st_mode))
@@ -302,7 +309,14 @@ OutputFiles::Add(const std::string &              path,
     return path;
   }
 
-  const std::string folder = given.parent_path().string();
+  // A symbolic link is written through: the file it names is replaced, the link stays.
+  std::error_code linkError;
+  entry->destination = isLink ? std::filesystem::canonical(given, linkError).string() : path;
+  if (linkError)
+  {
+    throw std::runtime_error("cannot write " + what + " '" + path + "': " + linkError.message());
+  }
+  const std::string folder = std::filesystem::path(entry->destination).parent_path().string();
   const std::string stem = dot == std::string::npos ? name : name.substr(0, dot);
   entry->temporary = (folder.empty() ? std::string() : folder + "/") + "." + m_Program + "-" +
                      std::to_string(getpid()) + "-" + std::to_string(m_Entries.size()) + "-" + stem + ending;
@@ -421,15 +435,15 @@ OutputFiles::Commit()
         continue;
       }
       struct stat existing;
-      if (lstat(entry->path.c_str(), &existing) == 0 && S_ISREG(existing.st_mode))
+      if (lstat(entry->destination.c_str(), &existing) == 0 && S_ISREG(existing.st_mode))
       {
         entry->backup = entry->temporary + ".previous";
-        if (link(entry->path.c_str(), entry->backup.c_str()) != 0)
+        if (link(entry->destination.c_str(), entry->backup.c_str()) != 0)
         {
           entry->backup.clear(); // no hard links here: the rename still replaces the file atomically
         }
       }
-      if (std::rename(entry->temporary.c_str(), entry->path.c_str()) != 0)
+      if (std::rename(entry->temporary.c_str(), entry->destination.c_str()) != 0)
       {
         const int error = errno;
         if (!entry->backup.empty())
@@ -455,11 +469,11 @@ OutputFiles::Commit()
       }
       if (!entry.backup.empty())
       {
-        std::rename(entry.backup.c_str(), entry.path.c_str());
+        std::rename(entry.backup.c_str(), entry.destination.c_str());
       }
       else
       {
-        unlink(entry.path.c_str());
+        unlink(entry.destination.c_str());
       }
       entry.committed = false;
     }
@@ -473,7 +487,7 @@ OutputFiles::Commit()
     }
     if (!entry->device)
     {
-      SyncFolder(entry->path);
+      SyncFolder(entry->destination);
     }
   }
 }

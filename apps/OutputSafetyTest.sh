@@ -81,6 +81,21 @@ case "$case_name" in
     same_bytes t.off t.orig
     [ -L link.off ] || fail "the symbolic link was replaced"
     ;;
+  OutputIsSymlinkToOtherFile)
+    # A symbolic link to a file that is no input is written through: the file is replaced, the link stays.
+    mkdir elsewhere
+    echo previous > elsewhere/o.off
+    ln -s elsewhere/o.off link.off
+    run "$match" --source s.off --target t.off "${go[@]}" --output link.off
+    [ "$status" -eq 0 ] || fail "exit code $status"
+    [ -L link.off ] || fail "the symbolic link was replaced by a file"
+    head -1 elsewhere/o.off | grep -q '^OFF' || fail "the file the link names was not written"
+    ln -s no-such-file dangling.off
+    run "$match" --source s.off --target t.off "${go[@]}" --output dangling.off
+    expect_early_refusal "cannot write --output 'dangling.off': a symbolic link to nothing"
+    no_leftovers
+    ( cd elsewhere && no_leftovers )
+    ;;
   OutputIsReport)
     run "$match" --source s.off --target t.off "${go[@]}" --output o.off --report o.off
     expect_early_refusal "--report and --output name the same file"

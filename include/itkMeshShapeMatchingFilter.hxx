@@ -349,12 +349,17 @@ MeshShapeMatchingFilter<TMesh, TImage>::GenerateData()
   {
     transform = this->RegisterVoxels(m_Method == MethodEnum::MRF || m_Method == MethodEnum::MRFPar ? MethodEnum::MRF
                                                                                                    : MethodEnum::GO);
-    if (refineByPar)
+    const double remaining = m_MaximumRunTime - detail::SecondsSince(start);
+    if (refineByPar && m_MaximumRunTime > 0.0 && remaining <= 0.0)
     {
-      const bool   timeLimitReached = m_TimeLimitReached;
-      const double remaining =
-        m_MaximumRunTime > 0.0 ? std::max(1e-3, m_MaximumRunTime - detail::SecondsSince(start)) : 0.0;
-      transform = this->RegisterMeshes(transform, remaining);
+      // The voxel stage used up the time: its transform is the one reached so far, Par is not started.
+      m_TimeLimitReached = true;
+      m_StopConditionDescription += "\npar: not started, the run-time limit was reached";
+    }
+    else if (refineByPar)
+    {
+      const bool timeLimitReached = m_TimeLimitReached;
+      transform = this->RegisterMeshes(transform, m_MaximumRunTime > 0.0 ? remaining : 0.0);
       m_TimeLimitReached = m_TimeLimitReached || timeLimitReached;
     }
   }
