@@ -271,6 +271,10 @@ private:
   void
   VoxelizeMeshes();
 
+  /** Updates one of the registration methods; its failure becomes this filter's exception. */
+  void
+  UpdateRegistration(ProcessObject * registration);
+
   /** Runs the voxel method GO or MRF; returns its transform output. */
   const DecoratedTransformType *
   RegisterVoxels(MethodEnum method);

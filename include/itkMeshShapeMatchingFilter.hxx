@@ -190,6 +190,20 @@ MeshShapeMatchingFilter<TMesh, TImage>::VoxelizeMeshes()
 }
 
 template <typename TMesh, typename TImage>
+void
+MeshShapeMatchingFilter<TMesh, TImage>::UpdateRegistration(ProcessObject * registration)
+{
+  try
+  {
+    registration->Update();
+  }
+  catch (const ExceptionObject & error)
+  {
+    itkExceptionMacro(<< "registration failed: " << error.GetDescription());
+  }
+}
+
+template <typename TMesh, typename TImage>
 auto
 MeshShapeMatchingFilter<TMesh, TImage>::RegisterVoxels(MethodEnum method) -> const DecoratedTransformType *
 {
@@ -211,14 +225,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::RegisterVoxels(MethodEnum method) -> con
     registration->SetBendingEnergyWeight(m_BendingEnergyWeight);
     registration->SetFoldingPenaltyWeight(m_FoldingPenaltyWeight);
     registration->SetMaximumRunTime(m_MaximumRunTime);
-    try
-    {
-      registration->Update();
-    }
-    catch (const ExceptionObject & error)
-    {
-      itkExceptionMacro(<< "registration failed: " << error.GetDescription());
-    }
+    this->UpdateRegistration(registration);
     m_MetricValues = registration->GetMetricValues();
     m_MetricName = distances ? "MeanSquares" : "MattesMutualInformation";
     m_StopConditionDescription = registration->GetStopConditionDescription();
@@ -248,14 +255,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::RegisterVoxels(MethodEnum method) -> con
   registration->SetUseImagePyramid(m_MRFUseImagePyramid);
   registration->SetNumberOfSolverCycles(1);
   registration->SetMaximumRunTime(m_MaximumRunTime);
-  try
-  {
-    registration->Update();
-  }
-  catch (const ExceptionObject & error)
-  {
-    itkExceptionMacro(<< "registration failed: " << error.GetDescription());
-  }
+  this->UpdateRegistration(registration);
   m_MetricValues = registration->GetEnergyValues();
   m_MetricName = distances ? "MRF energy (SSD)" : "MRF energy (pointwise MI)";
   std::ostringstream stop;
@@ -283,14 +283,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::RegisterMeshes(const DecoratedTransformT
   }
   registration->SetRandomSeed(m_RandomSeed);
   registration->SetMaximumRunTime(timeLimit);
-  try
-  {
-    registration->Update();
-  }
-  catch (const ExceptionObject & error)
-  {
-    itkExceptionMacro(<< "registration failed: " << error.GetDescription());
-  }
+  this->UpdateRegistration(registration);
   m_TimeLimitReached = registration->GetTimeLimitReached();
   const std::string voxelName = base != nullptr ? m_MetricName + ", then " : std::string();
   const std::string voxelStop = base != nullptr ? m_StopConditionDescription : std::string();
