@@ -30,7 +30,14 @@ CGAL_DATA = "/usr/share/doc/libcgal-dev/data.tar.gz"
 ALL_MESHES = ["fandisk_large", "bunny00", "diplodocus", "cheese"]
 ALL_REGIMES = ["paper", "smooth"]
 ALL_METHODS = ["go", "mrf", "par", "go+par", "mrf+par"]
-ALL_PEERS = ["elastix", "plastimatch-mi", "plastimatch-mse"]
+IMAGE_PEERS = ["elastix", "plastimatch-mi", "plastimatch-mse"]
+# Point-set peers: programs that are not installed by the benchmark, given by an environment variable
+# (benchmark/README.md, "Point-set peers"); nothing of them is in the repository.
+POINT_PEERS = {"bcpd": "BCPD_EXE", "nicp": "NICP_EXE"}
+ALL_PEERS = IMAGE_PEERS + list(POINT_PEERS)
+# BCPD's settings for roughly aligned shapes (its README) with its variational-Bayes acceleration (Nystrom + KD tree,
+# the values of its -A option); FFD_BCPD_OPTIONS replaces them.
+BCPD_OPTIONS = os.environ.get("FFD_BCPD_OPTIONS", "-w0.1 -b1.2 -l50 -g0.1 -ux -Tsrn -K70 -J300 -p -d7 -e0.15 -f0.2")
 PACKAGES = ["elastix", "plastimatch", "libcgal-demo", "gnuplot-nox", "time"]
 SMOKE_MESH = "smoke-torus"
 
@@ -126,18 +133,20 @@ def write_torus(path, major=30.0, minor=12.0, segments=48, rings=24):
 class Stage:
     """One timed process: wall time (s), peak resident memory (MB), exit code, the end of its output."""
 
-    def __init__(self, name, seconds, peak_mb, returncode, output):
+    def __init__(self, name, seconds, peak_mb, returncode, output, cpu_seconds=None):
         self.name = name
         self.seconds = seconds
         self.peak_mb = peak_mb
         self.returncode = returncode
         self.output = output
+        self.cpu_seconds = cpu_seconds  # user + system time: less noisy than wall time on a shared machine
 
     def ok(self):
         return self.returncode == 0
 
     def record(self):
-        return {"stage": self.name, "seconds": self.seconds, "peak_mb": self.peak_mb, "exit_code": self.returncode}
+        return {"stage": self.name, "seconds": self.seconds, "cpu_seconds": self.cpu_seconds, "peak_mb": self.peak_mb,
+                "exit_code": self.returncode}
 
     def reason(self):
         lines = [line for line in self.output.splitlines() if line.strip() and not line.startswith("$ ")]
@@ -169,6 +178,7 @@ def run(name, command, log_path, environment=None, timeout=3600):
             raise
     wall = time.monotonic() - start
     peak_mb = usage.ru_maxrss / 1024.0
+    cpu = usage.ru_utime + usage.ru_stime
     returncode = process.returncode
     if TIME and os.path.exists(time_path):
         with open(time_path) as timing:
@@ -176,6 +186,9 @@ def run(name, command, log_path, environment=None, timeout=3600):
         match = re.search(r"Elapsed \(wall clock\) time.*: (?:(\d+):)?(\d+):([\d.]+)", text)
         if match:
             wall = int(match.group(1) or 0) * 3600 + int(match.group(2)) * 60 + float(match.group(3))
+        times = [re.search(r"%s time \(seconds\): ([\d.]+)" % kind, text) for kind in ("User", "System")]
+        if all(times):
+            cpu = sum(float(t.group(1)) for t in times)
         match = re.search(r"Maximum resident set size \(kbytes\): (\d+)", text)
         if match:
             peak_mb = int(match.group(1)) / 1024.0
@@ -187,7 +200,7 @@ def run(name, command, log_path, environment=None, timeout=3600):
             returncode = 128 + int(match.group(1))
     with open(log_path) as logged:
         output = logged.read()[-4000:]
-    return Stage(name, wall, peak_mb, returncode, output)
+    return Stage(name, wall, peak_mb, returncode, output, cpu)
 
 
 def read_json(path):
@@ -369,6 +382,107 @@ def run_plastimatch(case, images, folder, tools, options, metric):
     return stages, field
 
 
+# Point-set peers (bcpd, nicp): the vertices of both meshes in, the deformed source vertices (in the source's
+# order) out; the deformed source is those vertices with the source's triangles.
+
+
+def read_off(path):
+    """Vertices (list of 3-tuples) and the face lines of an OFF file (counts on the header line or the next)."""
+    with open(path) as mesh:
+        lines = [line.split("#")[0].strip() for line in mesh]
+    lines = [line for line in lines if line]
+    if not lines or not lines[0].startswith("OFF"):
+        raise ValueError("%s is not an OFF file" % path)
+    header = lines[0][3:].split()
+    rest = 1
+    if not header:
+        header = lines[1].split()
+        rest = 2
+    vertex_count, face_count = int(header[0]), int(header[1])
+    vertices = [tuple(float(v) for v in line.split()[:3]) for line in lines[rest:rest + vertex_count]]
+    faces = lines[rest + vertex_count:rest + vertex_count + face_count]
+    if len(vertices) != vertex_count or len(faces) != face_count:
+        raise ValueError("%s is truncated" % path)
+    return vertices, faces
+
+
+def write_off(path, vertices, faces):
+    with open(path, "w") as out:
+        out.write("OFF\n%d %d 0\n" % (len(vertices), len(faces)))
+        out.writelines("%.9g %.9g %.9g\n" % tuple(v) for v in vertices)
+        out.writelines(face + "\n" for face in faces)
+
+
+def read_points(path, count, what):
+    """count rows of 3 numbers (BCPD's output: tab- or space-separated)."""
+    with open(path) as data:
+        rows = [line.replace(",", " ").split() for line in data if line.strip()]
+    if len(rows) != count or any(len(row) < 3 for row in rows):
+        raise ValueError("%s has %d rows of points, the source has %d vertices" % (what, len(rows), count))
+    return [tuple(float(v) for v in row[:3]) for row in rows]
+
+
+def run_point_peer(case, peer, tools, options):
+    folder = os.path.join(case["folder"], "peers", peer)
+    os.makedirs(folder, exist_ok=True)
+    variable = POINT_PEERS[peer]
+    program = os.environ.get(variable)
+    if not program:
+        return result_record(case, peer, "peer", [], None, "not run", "not run: %s not given" % variable)
+    if shutil.which(program) is None:
+        return result_record(case, peer, "peer", [], None, "failed",
+                             "%s=%s is not an executable program" % (variable, program))
+    environment = dict(os.environ, OMP_NUM_THREADS=str(options.threads), OPENBLAS_NUM_THREADS="1")
+    deformed = os.path.join(folder, "deformed.off")
+    # The conversions (OFF -> point lists, points -> OFF) run here in Python: timed, no peak memory of their own.
+    start = time.monotonic()
+    source_vertices, source_faces = read_off(case["source"])
+    stages = []
+    if peer == "bcpd":
+        target_vertices, _ = read_off(case["target"])
+        x_path = os.path.join(folder, "X.txt")
+        y_path = os.path.join(folder, "Y.txt")
+        for path, vertices in ((x_path, target_vertices), (y_path, source_vertices)):
+            with open(path, "w") as out:
+                out.writelines("%.9g\t%.9g\t%.9g\n" % v for v in vertices)
+        stages.append(Stage("convert", time.monotonic() - start, 0.0, 0, "", time.monotonic() - start))
+        prefix = os.path.join(folder, "bcpd_")
+        # X = target (fixed), Y = source (moving): BCPD moves Y onto X and writes the moved Y in Y's order.
+        command = [program, "-x", x_path, "-y", y_path, "-o", prefix, "-r", str(case["seed"] + 1)] + \
+            BCPD_OPTIONS.split()
+        stages.append(run("register", command, os.path.join(folder, "register.log"), environment=environment))
+        output = prefix + "y.txt"
+    else:
+        stages.append(Stage("convert", time.monotonic() - start, 0.0, 0, "", time.monotonic() - start))
+        output = os.path.join(folder, "nicp-output.off")
+        command = [program, case["source"], case["target"], output]
+        stages.append(run("register", command, os.path.join(folder, "register.log"), environment=environment))
+    extra = {"register_seconds": stages[-1].seconds, "command": " ".join(command)}
+    if not stages[-1].ok():
+        return result_record(case, peer, "peer", stages, None, "failed", stages[-1].reason(), extra)
+    start = time.monotonic()
+    try:
+        if peer == "bcpd":
+            moved = read_points(output, len(source_vertices), "BCPD's output %s" % os.path.basename(output))
+        else:
+            moved, _ = read_off(output)
+            if len(moved) != len(source_vertices):
+                raise ValueError("%s's output has %d vertices, the source has %d" % (variable, len(moved),
+                                                                                      len(source_vertices)))
+        if not all(math.isfinite(c) for v in moved for c in v):
+            raise ValueError("%s's output has a non-finite coordinate" % variable)
+        write_off(deformed, moved, source_faces)
+    except (OSError, ValueError) as error:
+        return result_record(case, peer, "peer", stages, None, "failed", "%s: %s" % (peer, error), extra)
+    stages.append(Stage("convert-back", time.monotonic() - start, 0.0, 0, "", time.monotonic() - start))
+    # No transform or field: min det J is not defined for a point-set result and is reported as "–".
+    score_stage, scores = score(case, deformed, folder, tools, [])
+    stages.append(score_stage)
+    if scores is None:
+        return result_record(case, peer, "peer", stages, None, "failed", score_stage.reason(), extra)
+    return result_record(case, peer, "peer", stages, scores, "ok", None, extra)
+
+
 # ------------------------------------------------------------------------------------------------
 # One case
 
@@ -402,6 +516,7 @@ def result_record(case, name, kind, stages, scores, status, reason=None, extra=N
               "status": status, "reason": reason, "stages": [stage.record() for stage in stages],
               "seconds_total": sum(stage.seconds for stage in stages if stage.name != "score"),
               "peak_mb": max([stage.peak_mb for stage in stages if stage.name != "score"] or [0.0]),
+              "cpu_seconds_total": sum(stage.cpu_seconds or 0.0 for stage in stages if stage.name != "score"),
               "scores": scores}
     if extra:
         record.update(extra)
@@ -525,6 +640,7 @@ def summarize(records, mesh, regime, name):
         "min_det": lambda r: r["scores"]["min_jacobian_determinant"],
         "register": lambda r: r.get("register_seconds"),
         "total": lambda r: r["seconds_total"],
+        "cpu": lambda r: r.get("cpu_seconds_total"),
         "peak": lambda r: r["peak_mb"],
     }.items():
         summary[key] = [getter(r) for r in ok]
@@ -568,6 +684,20 @@ def write_results(records, options, versions, results_dir, charts):
         add(options.note)
     add("")
     add("Versions: " + ", ".join("%s %s" % (k, v) for k, v in versions.items() if v))
+    point_peers = [p for p in options.peers if p in POINT_PEERS]
+    if point_peers:
+        programs = getattr(options, "point_peer_programs", None) or {}
+        texts = []
+        for peer in point_peers:
+            variable = POINT_PEERS[peer]
+            given = programs.get(peer)
+            text = "%s = `$%s` (%s)" % (peer, variable, ("`%s`" % given) if given else "not given: not run")
+            if peer == "bcpd":
+                text += ", options `%s`" % getattr(options, "bcpd_options", BCPD_OPTIONS)
+            texts.append(text)
+        add("")
+        add("Point-set peers (built outside the repository, README.md): " + "; ".join(texts) + ". They return the "
+            "deformed source vertices, not a transform: their min det J is not defined and shows \"–\".")
     add("")
     add("Every figure is the mean ± standard deviation over the seeds that ran (n in the last column). "
         "\"best peer\" = the peer configuration with the lowest mean true error on that mesh and regime; "
@@ -577,8 +707,8 @@ def write_results(records, options, versions, results_dir, charts):
         add("## Table 2 form — %s regime" % regime)
         add("")
         add("| mesh | method | true error mean (mm) | median | p95 | max | MDH (mm) | sym. Hausdorff (mm) | min det J "
-            "| register (s) | total (s) | peak RSS (MB) | err / best peer | time / best peer | n |")
-        add("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+            "| register (s) | total (s) | total CPU (s) | peak RSS (MB) | err / best peer | time / best peer | n |")
+        add("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
         for mesh in meshes:
             summaries = {name: summarize(records, mesh, regime, name) for name in names}
             peers = [p for p in options.peers if summaries[p]["ok"]]
@@ -589,13 +719,14 @@ def write_results(records, options, versions, results_dir, charts):
                     continue
                 label = name + (" (best peer)" if name == best else "")
                 if not s["ok"]:
-                    add("| %s | %s | %s |  |  |  |  |  |  |  |  |  |  |  | 0 |" % (mesh, label, status_text(s)))
+                    add("| %s | %s | %s |  |  |  |  |  |  |  |  |  |  |  |  | 0 |" % (mesh, label, status_text(s)))
                     continue
                 note = status_text(s)
-                add("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %d%s |" % (
+                add("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %d%s |" % (
                     mesh, label, fmt(s["true_mean"]), fmt(s["true_median"]), fmt(s["true_p95"]), fmt(s["true_max"]),
                     fmt(s["mdh"]), fmt(s["hausdorff"]), fmt(s["min_det"]),
                     fmt(s["register"], 1) if name != "start" else "", fmt(s["total"], 1) if name != "start" else "",
+                    fmt(s["cpu"], 1) if name != "start" else "",
                     fmt(s["peak"], 0, False) if name != "start" else "",
                     ratio_text(s["true_mean"], summaries[best]["true_mean"]) if best else "–",
                     ratio_text(s["register"], summaries[best]["register"]) if best and name != "start" else "",
@@ -732,6 +863,19 @@ def check_smoke(records, results_dir, charts):
                 problems.append("%s did not run or has no true error: %s" % (r["name"], r.get("reason", "")))
             else:
                 log("smoke: %s true error %.3f mm" % (r["name"], value))
+        if r["name"] in POINT_PEERS:
+            variable = POINT_PEERS[r["name"]]
+            if os.environ.get(variable):
+                value = r["scores"]["true_error"]["mean"] if r["status"] == "ok" else None
+                if not (isinstance(value, (int, float)) and math.isfinite(value)):
+                    problems.append("%s did not run or has no true error: %s" % (r["name"], r.get("reason", "")))
+                elif r["scores"].get("min_jacobian_determinant") is not None:
+                    problems.append("%s has a min det J, but it returns no transform" % r["name"])
+                else:
+                    log("smoke: %s true error %.3f mm" % (r["name"], value))
+            elif r["status"] != "not run" or r["reason"] != "not run: %s not given" % variable:
+                problems.append("%s without %s: %s (expected 'not run: %s not given')" % (
+                    r["name"], variable, r["reason"], variable))
         if r["name"] == "elastix" and r["status"] == "ok":
             value = r["scores"]["true_error"]["mean"]
             if not (isinstance(value, (int, float)) and math.isfinite(value)):
@@ -739,6 +883,10 @@ def check_smoke(records, results_dir, charts):
     text = open(os.path.join(results_dir, "RESULTS.md")).read()
     if "| true error mean (mm) |" not in text or "| %s | go |" % SMOKE_MESH not in text:
         problems.append("RESULTS.md lacks the go row")
+    for peer, variable in POINT_PEERS.items():
+        if not os.environ.get(variable) and "| %s | %s | not run: %s not given |" % (SMOKE_MESH, peer, variable) \
+                not in text:
+            problems.append("RESULTS.md does not say that %s was not run (%s not given)" % (peer, variable))
     for chart in charts:
         with open(chart, "rb") as data:
             if data.read(8) != b"\x89PNG\r\n\x1a\n":
@@ -764,7 +912,8 @@ def parse_arguments():
     parser.add_argument("--seeds", type=int, default=3, help="seeds per mesh and regime (default 3)")
     parser.add_argument("--first-seed", type=int, default=1)
     parser.add_argument("--methods", default=",".join(ALL_METHODS), help="ffd-match methods")
-    parser.add_argument("--peers", default=",".join(ALL_PEERS), help="elastix, plastimatch-mi, plastimatch-mse")
+    parser.add_argument("--peers", default=",".join(ALL_PEERS),
+                        help="elastix, plastimatch-mi, plastimatch-mse, bcpd (needs BCPD_EXE), nicp (needs NICP_EXE)")
     parser.add_argument("--grid", type=int, default=20, help="control points per axis (default 20)")
     parser.add_argument("--voxel-size", type=float, default=1.0)
     parser.add_argument("--fraction", type=float, default=0.6, help="region = this fraction of each axis")
@@ -790,12 +939,14 @@ def parse_arguments():
         options.regimes = "smooth"
         options.seeds = 1
         options.methods = "go,mrf,par,go+par,mrf+par"
-        options.peers = "elastix" if shutil.which("elastix") else ""
+        options.peers = ("elastix," if shutil.which("elastix") else "") + ",".join(POINT_PEERS)
         options.grid = 8
         options.voxel_size = 2.0
         options.note = options.note or (
-            "Smoke run: one generated torus, grid 8, 2 mm voxels, 1 seed, smooth regime, every method and elastix "
-            "(when installed: %s)." % ("yes" if shutil.which("elastix") else "no"))
+            "Smoke run: one generated torus, grid 8, 2 mm voxels, 1 seed, smooth regime, every method, elastix "
+            "(when installed: %s) and the point-set peers (when given: %s)." % (
+                "yes" if shutil.which("elastix") else "no",
+                ", ".join("%s %s" % (v, "yes" if os.environ.get(v) else "no") for v in POINT_PEERS.values())))
     options.meshes = [m for m in options.meshes.split(",") if m]
     options.regimes = [r for r in options.regimes.split(",") if r]
     options.methods = [m for m in options.methods.split(",") if m]
@@ -809,6 +960,8 @@ def parse_arguments():
     if options.seeds < 1 or options.grid < 4 or not options.voxel_size > 0:
         parser.error("--seeds >= 1, --grid >= 4 and --voxel-size > 0 are required")
     options.seed_list = ", ".join(str(options.first_seed + i) for i in range(options.seeds))
+    options.bcpd_options = BCPD_OPTIONS
+    options.point_peer_programs = {peer: os.environ.get(variable) or None for peer, variable in POINT_PEERS.items()}
     return options
 
 
@@ -882,6 +1035,8 @@ def main():
         "elastix (Debian)": package_version("elastix"),
         "plastimatch (Debian)": package_version("plastimatch"),
         "ITK (Debian)": package_version("libinsighttoolkit5-dev"),
+        "bcpd": tool_version([os.environ["BCPD_EXE"], "-v"], r"BCPD version (\S+)")
+        if "bcpd" in options.peers and os.environ.get("BCPD_EXE") and shutil.which(os.environ["BCPD_EXE"]) else None,
         "FFDShapeMatching": subprocess.run(["git", "-C", ROOT, "describe", "--always", "--dirty"], capture_output=True,
                                            text=True).stdout.strip() or None,
     }
@@ -906,15 +1061,19 @@ def main():
                     record = run_method(case, method, tools, options)
                     records.append(record)
                     log("  %-16s %s" % (method, describe(record)))
-                if options.peers:
+                image_peers = [p for p in options.peers if p in IMAGE_PEERS]
+                if image_peers:
                     images = peer_images(case, case["folder"], tools, options.voxel_size, options.threads,
                                          options.smoke)
-                    for peer in options.peers:
+                for peer in options.peers:
+                    if peer in POINT_PEERS:
+                        record = run_point_peer(case, peer, tools, options)
+                    else:
                         record = run_peer(case, peer, images, tools, options)
-                        records.append(record)
-                        log("  %-16s %s" % (peer, describe(record)))
-                    if not options.keep_images:
-                        shutil.rmtree(os.path.join(case["folder"], "images"), ignore_errors=True)
+                    records.append(record)
+                    log("  %-16s %s" % (peer, describe(record)))
+                if image_peers and not options.keep_images:
+                    shutil.rmtree(os.path.join(case["folder"], "images"), ignore_errors=True)
                 with open(results_json, "w") as out:
                     json.dump({"options": {k: v for k, v in vars(options).items()}, "versions": versions,
                                "records": records}, out, indent=1)
