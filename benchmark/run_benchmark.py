@@ -982,9 +982,15 @@ def tables_only(options):
                         "smoke"):
                 setattr(options, key, data["options"][key])
             options.note = options.note or data["options"].get("note", "")
+            options.bcpd_options = data["options"].get("bcpd_options", BCPD_OPTIONS)
+            options.point_peer_programs = {}
         else:
             for key in ("meshes", "regimes", "methods", "peers"):
                 getattr(options, key).extend(v for v in data["options"][key] if v not in getattr(options, key))
+        # The point-set peers' programs of the runs that had them.
+        for peer, program in (data["options"].get("point_peer_programs") or {}).items():
+            if program and not options.point_peer_programs.get(peer):
+                options.point_peer_programs[peer] = program
         for record in data["records"]:
             records[(record["mesh"], record["regime"], record["seed"], record["name"])] = record
         # The versions of every merged run: a program that changed between runs lists each version.
