@@ -35,8 +35,9 @@ IMAGE_PEERS = ["elastix", "plastimatch-mi", "plastimatch-mse"]
 # (benchmark/README.md, "Point-set peers"); nothing of them is in the repository.
 POINT_PEERS = {"bcpd": "BCPD_EXE", "nicp": "NICP_EXE"}
 ALL_PEERS = IMAGE_PEERS + list(POINT_PEERS)
-# BCPD's settings for roughly aligned shapes (its README) with its variational-Bayes acceleration (Nystrom + KD tree,
-# the values of its -A option); FFD_BCPD_OPTIONS replaces them.
+# BCPD's settings for roughly aligned shapes (-g0.1 -ux as its README recommends them; outlier probability 0.1,
+# beta 1.2, lambda 50; similarity + non-rigid) with its variational-Bayes acceleration (Nystrom + KD tree, the
+# values of its -A option); FFD_BCPD_OPTIONS replaces them.
 BCPD_OPTIONS = os.environ.get("FFD_BCPD_OPTIONS", "-w0.1 -b1.2 -l50 -g0.1 -ux -Tsrn -K70 -J300 -p -d7 -e0.15 -f0.2")
 PACKAGES = ["elastix", "plastimatch", "libcgal-demo", "gnuplot-nox", "time"]
 SMOKE_MESH = "smoke-torus"
@@ -447,16 +448,17 @@ def run_point_peer(case, peer, tools, options):
                 out.writelines("%.9g\t%.9g\t%.9g\n" % v for v in vertices)
         stages.append(Stage("convert", time.monotonic() - start, 0.0, 0, "", time.monotonic() - start))
         prefix = os.path.join(folder, "bcpd_")
+        output = prefix + "y.txt"
         # X = target (fixed), Y = source (moving): BCPD moves Y onto X and writes the moved Y in Y's order.
         command = [program, "-x", x_path, "-y", y_path, "-o", prefix, "-r", str(case["seed"] + 1)] + \
             BCPD_OPTIONS.split()
-        stages.append(run("register", command, os.path.join(folder, "register.log"), environment=environment))
-        output = prefix + "y.txt"
     else:
         stages.append(Stage("convert", time.monotonic() - start, 0.0, 0, "", time.monotonic() - start))
         output = os.path.join(folder, "nicp-output.off")
         command = [program, case["source"], case["target"], output]
-        stages.append(run("register", command, os.path.join(folder, "register.log"), environment=environment))
+    if os.path.exists(output):
+        os.remove(output)  # an earlier run's output must not be taken for this one's
+    stages.append(run("register", command, os.path.join(folder, "register.log"), environment=environment))
     extra = {"register_seconds": stages[-1].seconds, "command": " ".join(command)}
     if not stages[-1].ok():
         return result_record(case, peer, "peer", stages, None, "failed", stages[-1].reason(), extra)
