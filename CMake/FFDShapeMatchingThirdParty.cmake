@@ -47,9 +47,15 @@ if(NOT EXISTS "${Boost_INCLUDE_DIRS}/boost/graph/boykov_kolmogorov_max_flow.hpp"
     "${Boost_INCLUDE_DIRS} (Debian: apt-get install libboost-graph-dev); set Boost_ROOT.")
 endif()
 
+# nanoflann (header-only, BSD licence; Debian's libnanoflann-dev): the k-d tree of the CPD method's nearest-neighbour
+# searches. Its header is included by include/itkBSplineCoherentPointDriftRegistrationMethod.hxx, so the
+# library carries it to its users.
+find_package(nanoflann 1.4 REQUIRED)
+
 set(_FFDShapeMatching_export_code "
 find_package(VTK 9.1 REQUIRED COMPONENTS ${FFDShapeMatching_VTK_COMPONENTS})
 find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(nanoflann 1.4 REQUIRED)
 ")
 set(FFDShapeMatching_EXPORT_CODE_BUILD "${_FFDShapeMatching_export_code}")
 set(FFDShapeMatching_EXPORT_CODE_INSTALL "${_FFDShapeMatching_export_code}")

@@ -10,6 +10,7 @@ packages=(
   libeigen3-dev                          # Eigen 3.4
   googletest libgtest-dev                # GoogleTest 1.12
   libboost-graph-dev                     # Boost Graph's Boykov-Kolmogorov max-flow for the MRF optimizer
+  libnanoflann-dev                       # nanoflann's k-d tree for the CPD method's nearest neighbours
   xvfb xauth                             # off-screen rendering of snapshots
   clang libclang-rt-14-dev               # sanitizer and libFuzzer build (Utilities/SanitizerAndFuzzBuild.sh)
   clang-format-14                        # the format check of CI (Utilities/CheckFormat.sh)

@@ -37,7 +37,8 @@ Usage()
 {
   const MatchingDefaults defaults = GetMatchingDefaults();
   std::ostringstream     usage;
-  usage << "usage: ffd-match --source S --target T --method go|mrf|par|go+par|mrf+par --output DEFORMED\n"
+  usage << "usage: ffd-match --source S --target T --method go|mrf|par|go+par|mrf+par|go+cpd\n"
+           "                 --output DEFORMED\n"
            "                 [--grid N] [--voxel-size S] [--voxelization occupancy|solid|sdf]\n"
            "                 [--templates FILE.tfm] [--template-split none|control-point|axis]\n"
            "                 [--transform-out FILE.tfm] [--report FILE.json] [--snapshot FILE.png]\n"
@@ -51,7 +52,9 @@ Usage()
            "  --method        go: B-spline FFD by gradient-based image registration; mrf: by discrete\n"
            "                  Markov-random-field optimization of the control points; par: template\n"
            "                  weights fitted to the meshes directly (needs --templates); go+par, mrf+par:\n"
-           "                  go or mrf, refined by par\n"
+           "                  go or mrf, refined by par; go+cpd: go, refined by coherent point drift\n"
+           "                  on the B-spline coefficients (soft vertex correspondences in both\n"
+           "                  directions, bending prior)\n"
            "  --templates     ITK transform file of B-spline templates on one grid (par methods)\n"
            "  --template-split control-point (default): one weight per control point and template;\n"
            "                  axis: per control point and axis; none: one weight per template\n"
@@ -299,12 +302,12 @@ ParseArguments(int argc, char * argv[])
   }
   if (options.method.empty())
   {
-    throw Error("--method is required (go, mrf, par, go+par or mrf+par; see --help)");
+    throw Error("--method is required (go, mrf, par, go+par, mrf+par or go+cpd; see --help)");
   }
   itk::FFDShapeMatchingEnums::Method method;
   if (!itk::FFDShapeMatchingEnums::MethodFromString(options.method, method))
   {
-    throw Error("unknown method '" + options.method + "' (expected go, mrf, par, go+par or mrf+par)");
+    throw Error("unknown method '" + options.method + "' (expected go, mrf, par, go+par, mrf+par or go+cpd)");
   }
   options.method = itk::FFDShapeMatchingEnums::MethodToString(method);
   const bool usesTemplates = options.method.find("par") != std::string::npos;

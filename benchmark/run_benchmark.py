@@ -29,7 +29,7 @@ ROOT = os.path.dirname(HERE)
 CGAL_DATA = "/usr/share/doc/libcgal-dev/data.tar.gz"
 ALL_MESHES = ["fandisk_large", "bunny00", "diplodocus", "cheese"]
 ALL_REGIMES = ["paper", "smooth"]
-ALL_METHODS = ["go", "mrf", "par", "go+par", "mrf+par"]
+ALL_METHODS = ["go", "mrf", "par", "go+par", "mrf+par", "go+cpd"]
 IMAGE_PEERS = ["elastix", "plastimatch-mi", "plastimatch-mse"]
 # Point-set peers: programs that are not installed by the benchmark, given by an environment variable
 # (benchmark/README.md, "Point-set peers"); nothing of them is in the repository.
@@ -859,7 +859,7 @@ def check_smoke(records, results_dir, charts):
         if not go[0]["seconds_total"] > 0 or not go[0]["peak_mb"] > 0:
             problems.append("go has no time or memory figure")
     for r in records:
-        if r["name"] in ("mrf", "par", "go+par", "mrf+par"):
+        if r["name"] in ("mrf", "par", "go+par", "mrf+par", "go+cpd"):
             value = r["scores"]["true_error"]["mean"] if r["status"] == "ok" else None
             if not (isinstance(value, (int, float)) and math.isfinite(value)):
                 problems.append("%s did not run or has no true error: %s" % (r["name"], r.get("reason", "")))
@@ -940,7 +940,7 @@ def parse_arguments():
         options.meshes = SMOKE_MESH
         options.regimes = "smooth"
         options.seeds = 1
-        options.methods = "go,mrf,par,go+par,mrf+par"
+        options.methods = "go,mrf,par,go+par,mrf+par,go+cpd"
         options.peers = ("elastix," if shutil.which("elastix") else "") + ",".join(POINT_PEERS)
         options.grid = 8
         options.voxel_size = 2.0

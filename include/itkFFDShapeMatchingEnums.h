@@ -33,9 +33,12 @@ namespace itk
  * - \c GO: gradient-based global optimization of a B-spline transform on voxel images,
  * - \c MRF: discrete Markov-random-field optimization of the B-spline control points,
  * - \c Par: parametric-template matching of the meshes themselves,
- * - \c GOPar and \c MRFPar: a voxel method refined by Par.
+ * - \c GOPar and \c MRFPar: a voxel method refined by Par;
+ * and, beyond the paper, the module's point-correspondence refinement:
+ * - \c GOCPD: GO, refined by coherent point drift on the B-spline coefficients: soft correspondences between the
+ *   meshes' vertices in both directions (BSplineCoherentPointDriftRegistrationMethod, started from GO's result).
  *
- * The command-line spelling of each method ("go", "mrf", "par", "go+par", "mrf+par") is given by
+ * The command-line spelling of each method ("go", "mrf", "par", "go+par", "mrf+par", "go+cpd") is given by
  * MethodToString() and parsed back by MethodFromString().
  *
  * \ingroup FFDShapeMatching
@@ -50,7 +53,8 @@ public:
     MRF,
     Par,
     GOPar,
-    MRFPar
+    MRFPar,
+    GOCPD
   };
 
   /** Image similarity measure of a voxel-image registration. */
@@ -79,7 +83,7 @@ public:
     RegularStepGradientDescent
   };
 
-  /** The command-line spelling of a method: "go", "mrf", "par", "go+par" or "mrf+par". */
+  /** The command-line spelling of a method: "go", "mrf", "par", "go+par", "mrf+par" or "go+cpd". */
   static std::string
   MethodToString(Method method);
 

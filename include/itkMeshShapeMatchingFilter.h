@@ -19,6 +19,7 @@
 #define itkMeshShapeMatchingFilter_h
 
 #include "itkApplyTransformToMeshFilter.h"
+#include "itkBSplineCoherentPointDriftRegistrationMethod.h"
 #include "itkBSplineFFDImageRegistrationMethod.h"
 #include "itkBSplineMRFImageRegistrationMethod.h"
 #include "itkDataObjectDecorator.h"
@@ -47,8 +48,9 @@ namespace itk
  *    without the part near the target's open boundary (MeshOpenBoundaryMaskImageFilter);
  * 2. the chosen Method estimates T : target space -> source space (the target is the fixed image, the source the
  *    moving one): GO (BSplineFFDImageRegistrationMethod), MRF (BSplineMRFImageRegistrationMethod), Par
- *    (ParametricTemplateRegistrationMethod on the meshes themselves, with the TemplateTransform), or GO / MRF
- *    refined by Par;
+ *    (ParametricTemplateRegistrationMethod on the meshes themselves, with the TemplateTransform), GO / MRF
+ *    refined by Par, or GO refined by BSplineCoherentPointDriftRegistrationMethod (soft correspondences between
+ *    the meshes' vertices, from GO's result: GOCPD);
  * 3. ApplyTransformToMeshFilter applies T^-1 to the source's vertices (Newton inversion).
  *
  * GetOutput() is the deformed source: the source's vertex order, cells and point data, its points moved onto the
@@ -106,6 +108,7 @@ public:
   using GORegistrationType = BSplineFFDImageRegistrationMethod<ImageType>;
   using MRFRegistrationType = BSplineMRFImageRegistrationMethod<ImageType>;
   using ParRegistrationType = ParametricTemplateRegistrationMethod<MeshType, MeshType, ImageType>;
+  using CPDRegistrationType = BSplineCoherentPointDriftRegistrationMethod<MeshType, MeshType>;
   using MeshTransformFilterType = ApplyTransformToMeshFilter<MeshType, MeshType>;
 
   /** The mesh that is moved (the same as SetInput()). */
@@ -151,8 +154,9 @@ public:
   itkSetClampMacro(NumberOfLevels, unsigned int, 1, 8);
   itkGetConstMacro(NumberOfLevels, unsigned int);
 
-  /** Iterations per level (GO: optimizer iterations, MRF: label iterations, Par: optimizer iterations).
-   * 0 (default) means the method's tuned number: GO 50, MRF 8, Par ParametricTemplateRegistrationMethod's. */
+  /** Iterations per level (GO: optimizer iterations, MRF: label iterations, Par: optimizer iterations; the
+   * refinement of GOCPD keeps its own, BSplineCoherentPointDriftRegistrationMethod's). 0 (default) means the
+   * method's tuned number: GO 50, MRF 8, Par ParametricTemplateRegistrationMethod's. */
   itkSetMacro(NumberOfIterations, unsigned int);
   itkGetConstMacro(NumberOfIterations, unsigned int);
 
@@ -241,6 +245,7 @@ public:
   itkGetModifiableObjectMacro(GORegistration, GORegistrationType);
   itkGetModifiableObjectMacro(MRFRegistration, MRFRegistrationType);
   itkGetModifiableObjectMacro(ParRegistration, ParRegistrationType);
+  itkGetModifiableObjectMacro(CPDRegistration, CPDRegistrationType);
   itkGetModifiableObjectMacro(MeshTransformFilter, MeshTransformFilterType);
 
   /** Throws an ExceptionObject unless the target's bounding box, grown by \c margin, meets the source's: the
@@ -283,6 +288,18 @@ private:
   const DecoratedTransformType *
   RegisterMeshes(const DecoratedTransformType * base, double timeLimit);
 
+  /** Keeps the record of a stage on the meshes (Par or the point refinement): its metric values, and its name and
+   * stop condition after the voxel stage's when it followed one. */
+  void
+  RecordMeshStage(bool                        afterVoxelStage,
+                  const std::vector<double> & metricValues,
+                  const std::string &         metricName,
+                  const std::string &         stopCondition);
+
+  /** Runs the coherent point drift refinement from \c base (GO's result). */
+  const DecoratedTransformType *
+  RegisterPoints(const DecoratedTransformType * base, double timeLimit);
+
   MethodEnum       m_Method{ MethodEnum::GO };
   VoxelizationEnum m_Voxelization{ VoxelizationEnum::SignedDistance };
   double           m_VoxelSize{ 1.0 };
@@ -316,6 +333,7 @@ private:
   typename GORegistrationType::Pointer      m_GORegistration;
   typename MRFRegistrationType::Pointer     m_MRFRegistration;
   typename ParRegistrationType::Pointer     m_ParRegistration;
+  typename CPDRegistrationType::Pointer     m_CPDRegistration;
   typename MeshTransformFilterType::Pointer m_MeshTransformFilter;
 };
 } // namespace itk

@@ -45,6 +45,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::MeshShapeMatchingFilter()
   , m_GORegistration(GORegistrationType::New())
   , m_MRFRegistration(MRFRegistrationType::New())
   , m_ParRegistration(ParRegistrationType::New())
+  , m_CPDRegistration(CPDRegistrationType::New())
   , m_MeshTransformFilter(MeshTransformFilterType::New())
 {
   this->AddRequiredInputName("TargetMesh");
@@ -267,6 +268,20 @@ MeshShapeMatchingFilter<TMesh, TImage>::RegisterVoxels(MethodEnum method) -> con
 }
 
 template <typename TMesh, typename TImage>
+void
+MeshShapeMatchingFilter<TMesh, TImage>::RecordMeshStage(bool                        afterVoxelStage,
+                                                        const std::vector<double> & metricValues,
+                                                        const std::string &         metricName,
+                                                        const std::string &         stopCondition)
+{
+  const std::string voxelName = afterVoxelStage ? m_MetricName + ", then " : std::string();
+  const std::string voxelStop = afterVoxelStage ? m_StopConditionDescription : std::string();
+  m_MetricValues = metricValues;
+  m_MetricName = voxelName + metricName;
+  m_StopConditionDescription = voxelStop + (voxelStop.empty() || voxelStop.back() == '\n' ? "" : "\n") + stopCondition;
+}
+
+template <typename TMesh, typename TImage>
 auto
 MeshShapeMatchingFilter<TMesh, TImage>::RegisterMeshes(const DecoratedTransformType * base, double timeLimit)
   -> const DecoratedTransformType *
@@ -285,12 +300,31 @@ MeshShapeMatchingFilter<TMesh, TImage>::RegisterMeshes(const DecoratedTransformT
   registration->SetMaximumRunTime(timeLimit);
   this->UpdateRegistration(registration);
   m_TimeLimitReached = registration->GetTimeLimitReached();
-  const std::string voxelName = base != nullptr ? m_MetricName + ", then " : std::string();
-  const std::string voxelStop = base != nullptr ? m_StopConditionDescription : std::string();
-  m_MetricValues = registration->GetMetricValues();
-  m_MetricName = voxelName + "mean squared distance to the source surface";
-  m_StopConditionDescription = voxelStop + (voxelStop.empty() || voxelStop.back() == '\n' ? "" : "\n") +
-                               registration->GetStopConditionDescription();
+  this->RecordMeshStage(base != nullptr,
+                        registration->GetMetricValues(),
+                        "mean squared distance to the source surface",
+                        registration->GetStopConditionDescription());
+  return registration->GetTransformOutput();
+}
+
+template <typename TMesh, typename TImage>
+auto
+MeshShapeMatchingFilter<TMesh, TImage>::RegisterPoints(const DecoratedTransformType * base, double timeLimit)
+  -> const DecoratedTransformType *
+{
+  CPDRegistrationType * registration = m_CPDRegistration;
+  registration->SetFixedMesh(this->GetTargetMesh());
+  registration->SetMovingMesh(this->GetSourceMesh());
+  // GO's B-spline is the start: its grid is kept. The EM iterations are the refinement's own.
+  registration->SetInitialTransformInput(base);
+  registration->SetRandomSeed(m_RandomSeed);
+  registration->SetMaximumRunTime(timeLimit);
+  this->UpdateRegistration(registration);
+  m_TimeLimitReached = registration->GetTimeLimitReached();
+  this->RecordMeshStage(base != nullptr,
+                        registration->GetMetricValues(),
+                        "mean squared soft-correspondence residual",
+                        registration->GetStopConditionDescription());
   return registration->GetTransformOutput();
 }
 
@@ -306,6 +340,8 @@ MeshShapeMatchingFilter<TMesh, TImage>::GenerateData()
 
   const bool voxelMethod = m_Method != MethodEnum::Par;
   const bool refineByPar = m_Method == MethodEnum::GOPar || m_Method == MethodEnum::MRFPar;
+  const bool refineByCPD = m_Method == MethodEnum::GOCPD;
+  const bool refine = refineByPar || refineByCPD;
   auto       progress = ProgressAccumulator::New();
   progress->SetMiniPipelineFilter(this);
   progress->RegisterInternalFilter(m_TargetVoxelizer, 0.04f);
@@ -318,11 +354,15 @@ MeshShapeMatchingFilter<TMesh, TImage>::GenerateData()
     ProcessObject * voxelRegistration = m_Method == MethodEnum::MRF || m_Method == MethodEnum::MRFPar
                                           ? static_cast<ProcessObject *>(m_MRFRegistration)
                                           : static_cast<ProcessObject *>(m_GORegistration);
-    progress->RegisterInternalFilter(voxelRegistration, refineByPar ? 0.6f * registrationWeight : registrationWeight);
+    progress->RegisterInternalFilter(voxelRegistration, refine ? 0.6f * registrationWeight : registrationWeight);
   }
-  if (!voxelMethod || refineByPar)
+  if (m_Method == MethodEnum::Par || refineByPar)
   {
     progress->RegisterInternalFilter(m_ParRegistration, refineByPar ? 0.4f * registrationWeight : registrationWeight);
+  }
+  if (refineByCPD)
+  {
+    progress->RegisterInternalFilter(m_CPDRegistration, 0.4f * registrationWeight);
   }
   progress->RegisterInternalFilter(m_MeshTransformFilter, 0.05f);
 
@@ -343,16 +383,18 @@ MeshShapeMatchingFilter<TMesh, TImage>::GenerateData()
     transform = this->RegisterVoxels(m_Method == MethodEnum::MRF || m_Method == MethodEnum::MRFPar ? MethodEnum::MRF
                                                                                                    : MethodEnum::GO);
     const double remaining = m_MaximumRunTime - detail::SecondsSince(start);
-    if (refineByPar && m_MaximumRunTime > 0.0 && remaining <= 0.0)
+    if (refine && m_MaximumRunTime > 0.0 && remaining <= 0.0)
     {
-      // The voxel stage used up the time: its transform is the one reached so far, Par is not started.
+      // The voxel stage used up the time: its transform is the one reached so far, the refinement is not started.
       m_TimeLimitReached = true;
-      m_StopConditionDescription += "\npar: not started, the run-time limit was reached";
+      m_StopConditionDescription += refineByPar ? "\npar: not started, the run-time limit was reached"
+                                                : "\ncpd: not started, the run-time limit was reached";
     }
-    else if (refineByPar)
+    else if (refine)
     {
-      const bool timeLimitReached = m_TimeLimitReached;
-      transform = this->RegisterMeshes(transform, m_MaximumRunTime > 0.0 ? remaining : 0.0);
+      const bool   timeLimitReached = m_TimeLimitReached;
+      const double limit = m_MaximumRunTime > 0.0 ? remaining : 0.0;
+      transform = refineByPar ? this->RegisterMeshes(transform, limit) : this->RegisterPoints(transform, limit);
       m_TimeLimitReached = m_TimeLimitReached || timeLimitReached;
     }
   }
@@ -407,6 +449,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::PrintSelf(std::ostream & os, Indent inde
   itkPrintSelfObjectMacro(GORegistration);
   itkPrintSelfObjectMacro(MRFRegistration);
   itkPrintSelfObjectMacro(ParRegistration);
+  itkPrintSelfObjectMacro(CPDRegistration);
   itkPrintSelfObjectMacro(MeshTransformFilter);
 }
 } // namespace itk

@@ -28,11 +28,12 @@ namespace
 {
 using MethodSpelling = std::pair<FFDShapeMatchingEnums::Method, const char *>;
 
-constexpr std::array<MethodSpelling, 5> MethodSpellings{ { { FFDShapeMatchingEnums::Method::GO, "go" },
+constexpr std::array<MethodSpelling, 6> MethodSpellings{ { { FFDShapeMatchingEnums::Method::GO, "go" },
                                                            { FFDShapeMatchingEnums::Method::MRF, "mrf" },
                                                            { FFDShapeMatchingEnums::Method::Par, "par" },
                                                            { FFDShapeMatchingEnums::Method::GOPar, "go+par" },
-                                                           { FFDShapeMatchingEnums::Method::MRFPar, "mrf+par" } } };
+                                                           { FFDShapeMatchingEnums::Method::MRFPar, "mrf+par" },
+                                                           { FFDShapeMatchingEnums::Method::GOCPD, "go+cpd" } } };
 
 using VoxelizationSpelling = std::pair<FFDShapeMatchingEnums::Voxelization, const char *>;
 
@@ -116,6 +117,8 @@ operator<<(std::ostream & out, const FFDShapeMatchingEnums::Method value)
         return "itk::FFDShapeMatchingEnums::Method::GOPar";
       case FFDShapeMatchingEnums::Method::MRFPar:
         return "itk::FFDShapeMatchingEnums::Method::MRFPar";
+      case FFDShapeMatchingEnums::Method::GOCPD:
+        return "itk::FFDShapeMatchingEnums::Method::GOCPD";
     }
     return "INVALID VALUE FOR itk::FFDShapeMatchingEnums::Method";
   }();

@@ -561,7 +561,9 @@ itkBSplineMRFImageRegistrationMethodTest(int argc, char * argv[])
   registration->SetMaximumRunTime(-1.0);
   ITK_TEST_SET_GET_VALUE(0.0, registration->GetMaximumRunTime());
   // A run of a huge number of iterations over many labels (the dense cube, 343 of them, at a range that does not
-  // shrink) stops within twice a limit of 0.5 s, with a valid transform on the final grid, no worse than the start.
+  // shrink), which would take hours, stops at a limit of 0.5 s, with a valid transform on the final grid, no worse
+  // than the start. The bound on the time it took allows for a sanitizer build on a loaded machine (a label pass
+  // is the unit the limit is checked at): 10 s, far below the unlimited run.
   registration->SetRegularizationWeight(0.5);
   registration->SetSimilarity(SimilarityEnum::SumOfSquaredDifferences);
   registration->SetNumberOfLevels(2);
@@ -585,7 +587,7 @@ itkBSplineMRFImageRegistrationMethodTest(int argc, char * argv[])
     std::cout << "Dense labels, 10^6 iterations per level, limited to 0.5 s: " << seconds << " s, "
               << registration->GetEnergyValues().size() << " iterations, true error " << before << " -> " << after
               << " mm" << std::endl;
-    ITK_TEST_EXPECT_TRUE(seconds < 1.0);
+    ITK_TEST_EXPECT_TRUE(seconds < 10.0);
     ITK_TEST_EXPECT_TRUE(registration->GetTimeLimitReached());
     ITK_TEST_EXPECT_TRUE(finite);
     ITK_TEST_EXPECT_EQUAL(limited->GetCoefficientImages()[0]->GetLargestPossibleRegion().GetSize()[0],

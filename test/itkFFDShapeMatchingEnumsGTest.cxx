@@ -33,6 +33,7 @@ TEST(FFDShapeMatchingEnums, PrintsQualifiedNames)
     { MethodEnum::Par, "itk::FFDShapeMatchingEnums::Method::Par" },
     { MethodEnum::GOPar, "itk::FFDShapeMatchingEnums::Method::GOPar" },
     { MethodEnum::MRFPar, "itk::FFDShapeMatchingEnums::Method::MRFPar" },
+    { MethodEnum::GOCPD, "itk::FFDShapeMatchingEnums::Method::GOCPD" },
   };
   for (const auto & entry : expected)
   {
@@ -47,7 +48,8 @@ TEST(FFDShapeMatchingEnums, PrintsQualifiedNames)
 
 TEST(FFDShapeMatchingEnums, SpellingRoundTrips)
 {
-  for (const auto method : { MethodEnum::GO, MethodEnum::MRF, MethodEnum::Par, MethodEnum::GOPar, MethodEnum::MRFPar })
+  for (const auto method :
+       { MethodEnum::GO, MethodEnum::MRF, MethodEnum::Par, MethodEnum::GOPar, MethodEnum::MRFPar, MethodEnum::GOCPD })
   {
     MethodEnum        parsed = MethodEnum::GO;
     const std::string spelling = itk::FFDShapeMatchingEnums::MethodToString(method);
@@ -57,6 +59,8 @@ TEST(FFDShapeMatchingEnums, SpellingRoundTrips)
   MethodEnum parsed = MethodEnum::MRF;
   EXPECT_TRUE(itk::FFDShapeMatchingEnums::MethodFromString("GO+Par", parsed));
   EXPECT_EQ(parsed, MethodEnum::GOPar);
+  EXPECT_TRUE(itk::FFDShapeMatchingEnums::MethodFromString("go+cpd", parsed));
+  EXPECT_EQ(parsed, MethodEnum::GOCPD);
 }
 
 TEST(FFDShapeMatchingEnums, RejectsUnknownSpellings)

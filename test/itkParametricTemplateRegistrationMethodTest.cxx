@@ -355,8 +355,9 @@ itkParametricTemplateRegistrationMethodTest(int argc, char * argv[])
     ITK_TEST_EXPECT_TRUE(registration->GetFinalMetricValue() <= registration->GetInitialMetricValue());
     ITK_TEST_EXPECT_TRUE(registration->GetParametricTransform() != nullptr);
   }
-  // A run of a huge number of (slow, exact) iterations that would not converge stops within twice a limit of 0.5 s,
-  // with a valid transform no worse than the start.
+  // A run of a huge number of (slow, exact) iterations that would not converge stops at a limit of 0.5 s, with a
+  // valid transform no worse than the start. The bound on the time it took allows for a sanitizer build on a loaded
+  // machine: 10 s, far below the unlimited run.
   registration->SetOptimizer(RegistrationType::OptimizerEnum::OnePlusOneEvolutionary);
   registration->SetEvaluation(RegistrationType::EvaluationEnum::ExactPointToTriangle);
   registration->SetConvergenceTolerance(0.0);
@@ -376,7 +377,7 @@ itkParametricTemplateRegistrationMethodTest(int argc, char * argv[])
     std::cout << "par (1+1 ES, 10^8 exact iterations) limited to 0.5 s: " << seconds << " s, "
               << registration->GetMetricValues().size() << " iterations, true error "
               << TrueError(example, registration->GetTransform()) << " mm" << std::endl;
-    ITK_TEST_EXPECT_TRUE(seconds < 1.0);
+    ITK_TEST_EXPECT_TRUE(seconds < 10.0);
     ITK_TEST_EXPECT_TRUE(registration->GetTimeLimitReached());
     ITK_TEST_EXPECT_TRUE(finite);
     ITK_TEST_EXPECT_TRUE(registration->GetFinalMetricValue() <= registration->GetInitialMetricValue());

@@ -1,0 +1,743 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkBSplineCoherentPointDriftRegistrationMethod_hxx
+#define itkBSplineCoherentPointDriftRegistrationMethod_hxx
+
+#include "itkBSplineCoherentPointDriftRegistrationMethod.h"
+#include "itkBSplineLatticeRegularization.h"
+#include "itkContinuousIndex.h"
+#include "itkCubicBSplineKernel.h"
+#include "itkMultiThreaderBase.h"
+#include "itkPointsLocator.h"
+#include "itkSpatialJacobianEvaluator.h"
+#include "itkVectorContainer.h"
+
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/Sparse>
+#include <nanoflann.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <random>
+#include <sstream>
+
+namespace itk
+{
+namespace detail
+{
+/** The indices 0..count-1 in an order drawn from \c seed (Fisher-Yates with the portable mt19937 engine, so that
+ * the samples are the same on every platform), cut to \c wanted. */
+inline std::vector<IdentifierType>
+DrawSampleIndices(std::vector<IdentifierType> candidates, unsigned int wanted, int seed)
+{
+  std::mt19937 engine(static_cast<std::mt19937::result_type>(seed));
+  for (size_t i = candidates.size(); i > 1; --i)
+  {
+    const size_t j = static_cast<size_t>(engine() % i);
+    std::swap(candidates[i - 1], candidates[j]);
+  }
+  if (candidates.size() > wanted)
+  {
+    candidates.resize(wanted);
+  }
+  std::sort(candidates.begin(), candidates.end());
+  return candidates;
+}
+
+/** The 64 weights and coefficient indices (in a BSplineTransform's per-dimension parameter layout) of the cubic
+ * B-spline support of \c point on the control lattice \c coefficients (a coefficient image of the transform):
+ * T(point) = point + sum_j weights[j] c[indices[j]]. False, and nothing written, when the support leaves the lattice
+ * (the point is outside the transform's domain). */
+template <typename TImage, typename TPoint>
+bool
+BSplineSupportWeights(const TImage *                 coefficients,
+                      const TPoint &                 point,
+                      std::array<double, 64> &       weights,
+                      std::array<unsigned int, 64> & indices)
+{
+  ContinuousIndex<double, 3> u;
+  coefficients->TransformPhysicalPointToContinuousIndex(point, u);
+  const auto          size = coefficients->GetLargestPossibleRegion().GetSize();
+  std::array<long, 3> first{};
+  for (unsigned int d = 0; d < 3; ++d)
+  {
+    if (!(std::abs(u[d]) < 1e9)) // far outside (or not a number): no support, and no overflowing conversion
+    {
+      return false;
+    }
+    first[d] = static_cast<long>(std::floor(u[d])) - 1;
+    if (first[d] < 0 || first[d] + 3 >= static_cast<long>(size[d]))
+    {
+      return false;
+    }
+  }
+  unsigned int n = 0;
+  for (long c = 0; c < 4; ++c)
+  {
+    for (long b = 0; b < 4; ++b)
+    {
+      for (long a = 0; a < 4; ++a, ++n)
+      {
+        const long i0 = first[0] + a;
+        const long i1 = first[1] + b;
+        const long i2 = first[2] + c;
+        weights[n] = CubicBSpline(u[0] - i0) * CubicBSpline(u[1] - i1) * CubicBSpline(u[2] - i2);
+        indices[n] =
+          static_cast<unsigned int>(i0 + static_cast<long>(size[0]) * (i1 + static_cast<long>(size[1]) * i2));
+      }
+    }
+  }
+  return true;
+}
+
+/** A vector of ITK points as nanoflann's point cloud. */
+template <typename TPoint>
+struct PointCloudAdaptor
+{
+  const std::vector<TPoint> & Points;
+
+  size_t
+  kdtree_get_point_count() const
+  {
+    return Points.size();
+  }
+  double
+  kdtree_get_pt(size_t index, size_t dimension) const
+  {
+    return Points[index][dimension];
+  }
+  template <typename TBox>
+  bool
+  kdtree_get_bbox(TBox &) const
+  {
+    return false;
+  }
+};
+
+/** nanoflann's k-d tree over a PointCloudAdaptor (Euclidean distance, 3-D). */
+template <typename TPoint>
+using PointCloudKdTree =
+  nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloudAdaptor<TPoint>>,
+                                      PointCloudAdaptor<TPoint>,
+                                      3,
+                                      size_t>;
+
+/** The determinant of a 3 x 3 matrix. */
+template <typename TMatrix>
+double
+Determinant3(const TMatrix & a)
+{
+  return a(0, 0) * (a(1, 1) * a(2, 2) - a(1, 2) * a(2, 1)) - a(0, 1) * (a(1, 0) * a(2, 2) - a(1, 2) * a(2, 0)) +
+         a(0, 2) * (a(1, 0) * a(2, 1) - a(1, 1) * a(2, 0));
+}
+} // namespace detail
+
+template <typename TFixedMesh, typename TMovingMesh>
+BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::BSplineCoherentPointDriftRegistrationMethod()
+{
+  m_TransformDomainOrigin.Fill(0.0);
+  m_TransformDomainPhysicalDimensions.Fill(0.0);
+  this->SetPrimaryInputName("FixedMesh");
+  this->AddRequiredInputName("MovingMesh", 1);
+  this->AddOptionalInputName("InitialTransform", 2);
+  this->SetNumberOfRequiredOutputs(1);
+  this->SetNthOutput(0, this->MakeOutput(0));
+}
+
+template <typename TFixedMesh, typename TMovingMesh>
+ProcessObject::DataObjectPointer
+BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::MakeOutput(DataObjectPointerArraySizeType)
+{
+  return DecoratedTransformType::New().GetPointer();
+}
+
+template <typename TFixedMesh, typename TMovingMesh>
+auto
+BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GetTransformOutput() const
+  -> const DecoratedTransformType *
+{
+  return static_cast<const DecoratedTransformType *>(this->ProcessObject::GetOutput(0));
+}
+
+template <typename TFixedMesh, typename TMovingMesh>
+auto
+BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GetTransform() const -> const TransformType *
+{
+  return this->GetTransformOutput()->Get();
+}
+
+template <typename TFixedMesh, typename TMovingMesh>
+auto
+BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::MakeStartTransform() const ->
+  typename BSplineTransformType::Pointer
+{
+  auto transform = BSplineTransformType::New();
+  if (const TransformType * initial = this->GetInitialTransform())
+  {
+    const auto * bspline = dynamic_cast<const BSplineTransformType *>(initial);
+    if (bspline == nullptr)
+    {
+      itkExceptionMacro(<< "the initial transform must be a cubic BSplineTransform<double, 3, 3>, not a "
+                        << initial->GetNameOfClass());
+    }
+    transform->SetFixedParameters(bspline->GetFixedParameters());
+    transform->SetParameters(bspline->GetParameters());
+    return transform;
+  }
+  PointType  origin = m_TransformDomainOrigin;
+  VectorType extent = m_TransformDomainPhysicalDimensions;
+  bool       given = true;
+  for (unsigned int d = 0; d < Dimension; ++d)
+  {
+    given = given && extent[d] > 0.0;
+  }
+  if (!given)
+  {
+    const auto box = this->GetFixedMesh()->GetBoundingBox();
+    for (unsigned int d = 0; d < Dimension; ++d)
+    {
+      origin[d] = box->GetMinimum()[d] - m_DomainMargin;
+      extent[d] = std::max(box->GetMaximum()[d] - box->GetMinimum()[d] + 2.0 * m_DomainMargin, 1e-3);
+    }
+  }
+  typename BSplineTransformType::PhysicalDimensionsType dimensions;
+  typename BSplineTransformType::MeshSizeType           meshSize;
+  for (unsigned int d = 0; d < Dimension; ++d)
+  {
+    dimensions[d] = extent[d];
+    meshSize[d] = m_NumberOfControlPointsPerAxis - 3;
+  }
+  typename BSplineTransformType::DirectionType direction;
+  direction.SetIdentity();
+  transform->SetTransformDomainOrigin(origin);
+  transform->SetTransformDomainPhysicalDimensions(dimensions);
+  transform->SetTransformDomainMeshSize(meshSize);
+  transform->SetTransformDomainDirection(direction);
+  transform->SetIdentity();
+  return transform;
+}
+
+template <typename TFixedMesh, typename TMovingMesh>
+void
+BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateData()
+{
+  using ClockType = std::chrono::steady_clock;
+  using SparseMatrix = Eigen::SparseMatrix<double>;
+  using Triplet = Eigen::Triplet<double>;
+  const auto start = ClockType::now();
+  m_TimeLimitReached = false;
+  m_SigmaValues.clear();
+  m_MetricValues.clear();
+  m_NumberOfRegularizationIncreases = 0;
+  m_StopConditionDescription.clear();
+
+  const FixedMeshType *  fixedMesh = this->GetFixedMesh();
+  const MovingMeshType * movingMesh = this->GetMovingMesh();
+  if (fixedMesh->GetNumberOfPoints() == 0 || movingMesh->GetNumberOfPoints() == 0)
+  {
+    itkExceptionMacro(<< "the " << (fixedMesh->GetNumberOfPoints() == 0 ? "fixed (target)" : "moving (source)")
+                      << " mesh has no points");
+  }
+  typename BSplineTransformType::Pointer transform = this->MakeStartTransform();
+  const auto                             coefficients = transform->GetCoefficientImages();
+  const auto                             gridSize = coefficients[0]->GetLargestPossibleRegion().GetSize();
+  const auto                             gridSpacing = coefficients[0]->GetSpacing();
+  const double                           spacing = std::min({ gridSpacing[0], gridSpacing[1], gridSpacing[2] });
+  const size_t                           numberOfCoefficients = transform->GetNumberOfParametersPerDimension();
+  // Default widths, in control spacings, measured on the module's benchmark (benchmark/RESULTS.md): from the
+  // identity a wide start (the deformation is not known), from a voxel method's result a narrow one.
+  const bool   refining = this->GetInitialTransform() != nullptr;
+  const double sigmaCeiling = m_InitialSigma > 0.0 ? m_InitialSigma : (refining ? 0.4 : 1.1) * spacing;
+
+  // The target's area and open boundary, from its polygons.
+  std::map<std::pair<IdentifierType, IdentifierType>, unsigned int> edgeUses;
+  double                                                            area = 0.0;
+  for (auto cell = fixedMesh->GetCells()->Begin(); cell != fixedMesh->GetCells()->End(); ++cell)
+  {
+    const auto * points = cell.Value()->GetPointIds();
+    const auto   count = cell.Value()->GetNumberOfPoints();
+    if (count < 3)
+    {
+      continue;
+    }
+    const PointType first = fixedMesh->GetPoint(points[0]);
+    for (unsigned int i = 0; i < count; ++i)
+    {
+      const IdentifierType a = points[i];
+      const IdentifierType b = points[(i + 1) % count];
+      ++edgeUses[std::make_pair(std::min(a, b), std::max(a, b))];
+      if (i + 2 < count)
+      {
+        const VectorType u = fixedMesh->GetPoint(points[i + 1]) - first;
+        const VectorType v = fixedMesh->GetPoint(points[i + 2]) - first;
+        area += 0.5 * CrossProduct(u, v).GetNorm();
+      }
+    }
+  }
+  if (!(area > 0.0))
+  {
+    itkExceptionMacro(<< "the fixed (target) mesh has no polygon of non-zero area");
+  }
+  using PointsContainer = VectorContainer<IdentifierType, PointType>;
+  using LocatorType = PointsLocator<PointsContainer>;
+  auto boundaryPoints = PointsContainer::New();
+  {
+    std::vector<IdentifierType> boundaryIds;
+    for (const auto & edge : edgeUses)
+    {
+      if (edge.second == 1)
+      {
+        boundaryIds.push_back(edge.first.first);
+        boundaryIds.push_back(edge.first.second);
+      }
+    }
+    std::sort(boundaryIds.begin(), boundaryIds.end());
+    boundaryIds.erase(std::unique(boundaryIds.begin(), boundaryIds.end()), boundaryIds.end());
+    for (const IdentifierType id : boundaryIds)
+    {
+      boundaryPoints->push_back(fixedMesh->GetPoint(id));
+    }
+  }
+
+  // The samples: target vertices inside the B-spline's domain, source vertices near it.
+  std::vector<PointType>                    y;
+  std::vector<std::array<double, 64>>       weights;
+  std::vector<std::array<unsigned int, 64>> indices;
+  {
+    std::vector<IdentifierType> candidates(fixedMesh->GetNumberOfPoints());
+    for (IdentifierType i = 0; i < candidates.size(); ++i)
+    {
+      candidates[i] = i;
+    }
+    for (const IdentifierType id : detail::DrawSampleIndices(candidates, m_NumberOfFixedSamples, m_RandomSeed))
+    {
+      const PointType              p = fixedMesh->GetPoint(id);
+      std::array<double, 64>       w{};
+      std::array<unsigned int, 64> k{};
+      if (!detail::BSplineSupportWeights(coefficients[0].GetPointer(), p, w, k))
+      {
+        continue;
+      }
+      y.push_back(p);
+      weights.push_back(w);
+      indices.push_back(k);
+    }
+  }
+  const size_t numberOfFixed = y.size();
+  if (numberOfFixed < 10)
+  {
+    itkExceptionMacro(<< "fewer than 10 target vertices lie inside the B-spline's domain (" << numberOfFixed << ")");
+  }
+  std::vector<PointType> x;
+  {
+    PointType  low = transform->GetTransformDomainOrigin();
+    PointType  high = low;
+    const auto dimensions = transform->GetTransformDomainPhysicalDimensions();
+    for (unsigned int d = 0; d < Dimension; ++d)
+    {
+      low[d] -= 3.0 * sigmaCeiling;
+      high[d] += dimensions[d] + 3.0 * sigmaCeiling;
+    }
+    std::vector<IdentifierType> candidates;
+    for (IdentifierType i = 0; i < movingMesh->GetNumberOfPoints(); ++i)
+    {
+      const PointType p = movingMesh->GetPoint(i);
+      bool            near = true;
+      for (unsigned int d = 0; d < Dimension; ++d)
+      {
+        near = near && p[d] >= low[d] && p[d] <= high[d];
+      }
+      if (near)
+      {
+        candidates.push_back(i);
+      }
+    }
+    for (const IdentifierType id : detail::DrawSampleIndices(candidates, m_NumberOfMovingSamples, m_RandomSeed + 1))
+    {
+      x.push_back(movingMesh->GetPoint(id));
+    }
+  }
+  const size_t numberOfMoving = x.size();
+  if (numberOfMoving < 10)
+  {
+    itkExceptionMacro(<< "fewer than 10 source vertices lie near the B-spline's domain (" << numberOfMoving
+                      << "): the meshes do not overlap");
+  }
+  // Target samples per unit area (the uniform outlier term is measured against it).
+  const double density = static_cast<double>(numberOfFixed) / area;
+
+  // B (the samples' B-spline weights) and R (the bending energy of the control lattice).
+  SparseMatrix basis(static_cast<Eigen::Index>(numberOfFixed), static_cast<Eigen::Index>(numberOfCoefficients));
+  {
+    std::vector<Triplet> entries;
+    entries.reserve(numberOfFixed * 64);
+    for (size_t m = 0; m < numberOfFixed; ++m)
+    {
+      for (unsigned int n = 0; n < 64; ++n)
+      {
+        entries.emplace_back(static_cast<int>(m), static_cast<int>(indices[m][n]), weights[m][n]);
+      }
+    }
+    basis.setFromTriplets(entries.begin(), entries.end());
+  }
+  const SparseMatrix bending = detail::BSplineLatticeBendingMatrix({ gridSize[0], gridSize[1], gridSize[2] });
+  SparseMatrix       identity(static_cast<Eigen::Index>(numberOfCoefficients),
+                        static_cast<Eigen::Index>(numberOfCoefficients));
+  identity.setIdentity();
+
+  // The coefficients c (one column per dimension) and the mapped samples Y + B c.
+  Eigen::MatrixXd coefficient(numberOfCoefficients, Dimension);
+  {
+    const auto & parameters = transform->GetParameters();
+    for (unsigned int d = 0; d < Dimension; ++d)
+    {
+      for (size_t k = 0; k < numberOfCoefficients; ++k)
+      {
+        coefficient(k, d) = parameters[d * numberOfCoefficients + k];
+      }
+    }
+  }
+  Eigen::MatrixXd target(numberOfFixed, Dimension);
+  for (size_t m = 0; m < numberOfFixed; ++m)
+  {
+    for (unsigned int d = 0; d < Dimension; ++d)
+    {
+      target(m, d) = y[m][d];
+    }
+  }
+
+  const detail::PointCloudAdaptor<PointType> movingCloud{ x };
+  detail::PointCloudKdTree<PointType> movingTree(Dimension, movingCloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  movingTree.buildIndex();
+
+  // The widths. From the identity: 1.1 and 0.25 control spacings. From a voxel method's result, whose surfaces
+  // already meet: at most 0.4 and 0.15 control spacings, and less when the surfaces are closer: 10 x the RMS
+  // distance from the mapped target samples to their nearest source sample, the floor at most half the start.
+  double startDistance = NumericTraits<double>::max();
+  if (refining)
+  {
+    double                startSquares = 0.0;
+    const Eigen::MatrixXd start = target + basis * coefficient;
+    for (size_t m = 0; m < numberOfFixed; ++m)
+    {
+      const std::array<double, 3> q{ start(m, 0), start(m, 1), start(m, 2) };
+      size_t                      nearest = 0;
+      double                      squared = 0.0;
+      movingTree.knnSearch(q.data(), 1, &nearest, &squared);
+      startSquares += squared;
+    }
+    startDistance = std::sqrt(startSquares / static_cast<double>(numberOfFixed));
+  }
+  const double sigmaStart =
+    m_InitialSigma > 0.0
+      ? m_InitialSigma
+      : (refining ? std::min(sigmaCeiling, std::max(10.0 * startDistance, 1e-3 * spacing)) : sigmaCeiling);
+  const double sigmaFloor =
+    m_MinimumSigma > 0.0 ? m_MinimumSigma : (refining ? std::min(0.15 * spacing, 0.5 * sigmaStart) : 0.25 * spacing);
+  const double boundaryDistance = m_OpenBoundaryDistance > 0.0 ? m_OpenBoundaryDistance : 2.0 * sigmaFloor;
+
+  // Target samples near the open boundary.
+  std::vector<bool> nearBoundary(numberOfFixed, false);
+  if (!boundaryPoints->empty())
+  {
+    auto locator = LocatorType::New();
+    locator->SetPoints(boundaryPoints);
+    locator->Initialize();
+    for (size_t m = 0; m < numberOfFixed; ++m)
+    {
+      const PointType & b = boundaryPoints->ElementAt(locator->FindClosestPoint(y[m]));
+      nearBoundary[m] = b.EuclideanDistanceTo(y[m]) < boundaryDistance;
+    }
+  }
+
+
+  // The transform's parameters from the coefficient columns (SetParameters copies them).
+  typename BSplineTransformType::ParametersType parameters(transform->GetNumberOfParameters());
+  const auto                                    setCoefficients = [&](const Eigen::MatrixXd & values) {
+    for (unsigned int d = 0; d < Dimension; ++d)
+    {
+      for (size_t k = 0; k < numberOfCoefficients; ++k)
+      {
+        parameters[d * numberOfCoefficients + k] = values(k, d);
+      }
+    }
+    transform->SetParameters(parameters);
+  };
+
+  const unsigned int  forwardNeighbors = std::min<unsigned int>(m_NumberOfNeighbors, numberOfMoving);
+  const unsigned int  reverseNeighbors = std::min<unsigned int>(m_NumberOfNeighbors, numberOfFixed);
+  double              lambda = m_RegularizationWeight;
+  double              sigma2 = sigmaStart * sigmaStart;
+  const double        w = m_OutlierWeight;
+  MultiThreaderBase * threader = this->GetMultiThreader();
+  threader->SetMaximumNumberOfThreads(this->GetNumberOfWorkUnits());
+
+  std::ostringstream stop;
+  unsigned int       iteration = 0;
+  for (; iteration < m_NumberOfIterations; ++iteration)
+  {
+    if (m_MaximumRunTime > 0.0 && std::chrono::duration<double>(ClockType::now() - start).count() > m_MaximumRunTime)
+    {
+      m_TimeLimitReached = true;
+      stop << "cpd: the run-time limit was reached after " << iteration << " iterations";
+      break;
+    }
+    const Eigen::MatrixXd mapped = target + basis * coefficient;
+    const double          radius2 = 9.0 * sigma2;
+
+    // E-step. Per target sample m: the matched mass P1_m, sum_n P_mn x_n and sum_n P_mn |x_n|^2.
+    std::vector<double>                mass(numberOfFixed, 0.0);
+    std::vector<std::array<double, 3>> pulled(numberOfFixed, { 0.0, 0.0, 0.0 });
+    std::vector<double>                squares(numberOfFixed, 0.0);
+    const double                       forward = m_ForwardWeight;
+    threader->ParallelizeArray(
+      0,
+      numberOfFixed,
+      [&](SizeValueType m) {
+        PointType q;
+        for (unsigned int d = 0; d < Dimension; ++d)
+        {
+          q[d] = mapped(m, d);
+        }
+        std::array<size_t, 64> neighbors{};
+        std::array<double, 64> squaredDistances{};
+        const size_t           found =
+          movingTree.knnSearch(q.GetDataPointer(), forwardNeighbors, neighbors.data(), squaredDistances.data());
+        double                 total = 0.0;
+        std::array<double, 64> g{};
+        for (size_t j = 0; j < found; ++j)
+        {
+          const double d2 = squaredDistances[j];
+          g[j] = d2 < radius2 ? std::exp(-0.5 * d2 / sigma2) : 0.0;
+          total += g[j];
+        }
+        if (total <= 0.0)
+        {
+          return;
+        }
+        for (size_t j = 0; j < found; ++j)
+        {
+          const double      p = forward * g[j] / total;
+          const PointType & xn = x[neighbors[j]];
+          mass[m] += p;
+          for (unsigned int d = 0; d < Dimension; ++d)
+          {
+            pulled[m][d] += p * xn[d];
+          }
+          squares[m] += p * xn.GetVectorFromOrigin().GetSquaredNorm();
+        }
+      },
+      nullptr);
+    if (forward < 1.0)
+    {
+      std::vector<PointType> mappedPoints(numberOfFixed);
+      for (size_t m = 0; m < numberOfFixed; ++m)
+      {
+        for (unsigned int d = 0; d < Dimension; ++d)
+        {
+          mappedPoints[m][d] = mapped(m, d);
+        }
+      }
+      const detail::PointCloudAdaptor<PointType> mappedCloud{ mappedPoints };
+      detail::PointCloudKdTree<PointType>        mappedTree(
+        Dimension, mappedCloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+      mappedTree.buildIndex();
+      const double                              outlier = w / (1.0 - w) * 2.0 * Math::pi * sigma2 * density;
+      std::vector<std::array<unsigned int, 64>> shareIds(numberOfMoving);
+      std::vector<std::array<double, 64>>       shares(numberOfMoving);
+      std::vector<unsigned int>                 shareCounts(numberOfMoving, 0);
+      threader->ParallelizeArray(
+        0,
+        numberOfMoving,
+        [&](SizeValueType n) {
+          std::array<size_t, 64> neighbors{};
+          std::array<double, 64> squaredDistances{};
+          const size_t           found =
+            mappedTree.knnSearch(x[n].GetDataPointer(), reverseNeighbors, neighbors.data(), squaredDistances.data());
+          if (found == 0 || nearBoundary[neighbors[0]])
+          {
+            return;
+          }
+          double total = outlier;
+          for (size_t j = 0; j < found; ++j)
+          {
+            const double d2 = squaredDistances[j];
+            shares[n][j] = d2 < radius2 ? std::exp(-0.5 * d2 / sigma2) : 0.0;
+            shareIds[n][j] = static_cast<unsigned int>(neighbors[j]);
+            total += shares[n][j];
+          }
+          for (size_t j = 0; j < found; ++j)
+          {
+            shares[n][j] *= (1.0 - forward) / total;
+          }
+          shareCounts[n] = static_cast<unsigned int>(found);
+        },
+        nullptr);
+      for (size_t n = 0; n < numberOfMoving; ++n)
+      {
+        const double xx = x[n].GetVectorFromOrigin().GetSquaredNorm();
+        for (unsigned int j = 0; j < shareCounts[n]; ++j)
+        {
+          const unsigned int m = shareIds[n][j];
+          const double       p = shares[n][j];
+          mass[m] += p;
+          for (unsigned int d = 0; d < Dimension; ++d)
+          {
+            pulled[m][d] += p * x[n][d];
+          }
+          squares[m] += p * xx;
+        }
+      }
+    }
+    // sum_mn P_mn |x_n - z_m|^2 for target samples at z.
+    const auto residualAt = [&](const Eigen::MatrixXd & z) {
+      double sum = 0.0;
+      for (size_t m = 0; m < numberOfFixed; ++m)
+      {
+        double dot = 0.0;
+        double norm = 0.0;
+        for (unsigned int d = 0; d < Dimension; ++d)
+        {
+          dot += pulled[m][d] * z(m, d);
+          norm += z(m, d) * z(m, d);
+        }
+        sum += squares[m] - 2.0 * dot + mass[m] * norm;
+      }
+      return sum;
+    };
+    double totalMass = 0.0;
+    for (size_t m = 0; m < numberOfFixed; ++m)
+    {
+      totalMass += mass[m];
+    }
+    const double residual = residualAt(mapped);
+    if (!(totalMass > 0.0))
+    {
+      stop << "cpd: no correspondence within 3 sigma after " << iteration << " iterations";
+      break;
+    }
+    m_SigmaValues.push_back(std::sqrt(sigma2));
+    m_MetricValues.push_back(residual / totalMass);
+
+    // M-step: (B^T diag(P1) B + lambda (sigma/h)^2 s (R + 1e-3 I)) c = B^T (P X - diag(P1) Y).
+    Eigen::VectorXd massVector(numberOfFixed);
+    Eigen::MatrixXd right(numberOfFixed, Dimension);
+    for (size_t m = 0; m < numberOfFixed; ++m)
+    {
+      massVector[m] = mass[m];
+      for (unsigned int d = 0; d < Dimension; ++d)
+      {
+        right(m, d) = pulled[m][d] - mass[m] * target(m, d);
+      }
+    }
+    const SparseMatrix    data = basis.transpose() * massVector.asDiagonal() * basis;
+    const Eigen::MatrixXd rhs = basis.transpose() * right;
+    const double          scale = sigma2 / (spacing * spacing) * totalMass / 1000.0;
+    Eigen::MatrixXd       solved = coefficient;
+    for (unsigned int attempt = 0;; ++attempt)
+    {
+      const SparseMatrix system = data + (lambda * scale) * (bending + 1e-3 * identity);
+      Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper> solver;
+      solver.setMaxIterations(static_cast<Eigen::Index>(m_NumberOfSolverIterations));
+      solver.setTolerance(1e-8);
+      solver.compute(system);
+      for (unsigned int d = 0; d < Dimension; ++d)
+      {
+        solved.col(d) = solver.solveWithGuess(rhs.col(d), coefficient.col(d));
+      }
+      // Fold check at the target samples.
+      setCoefficients(solved);
+      detail::SpatialJacobianEvaluator<double, Dimension> jacobian;
+      jacobian.Initialize(transform);
+      double                                                                   minimum = NumericTraits<double>::max();
+      typename detail::SpatialJacobianEvaluator<double, Dimension>::MatrixType matrix;
+      for (size_t m = 0; m < numberOfFixed; ++m)
+      {
+        jacobian.Evaluate(y[m], matrix);
+        minimum = std::min(minimum, detail::Determinant3(matrix));
+      }
+      if (minimum >= m_MinimumJacobianDeterminant || attempt >= 6)
+      {
+        break;
+      }
+      lambda *= 4.0;
+      ++m_NumberOfRegularizationIncreases;
+    }
+    const double change = (solved - coefficient).cwiseAbs().maxCoeff();
+    coefficient = solved;
+
+    // sigma^2 from the new positions.
+    const double newResidual = residualAt(target + basis * coefficient);
+    sigma2 = std::max(newResidual / (Dimension * totalMass), sigmaFloor * sigmaFloor);
+    this->UpdateProgress(static_cast<float>(iteration + 1) / static_cast<float>(m_NumberOfIterations));
+    this->InvokeEvent(IterationEvent());
+    if (change < 1e-4 * spacing && std::sqrt(sigma2) <= sigmaFloor * (1.0 + 1e-6))
+    {
+      ++iteration;
+      stop << "cpd: converged after " << iteration << " iterations (largest coefficient change below 1e-4 x the "
+           << "control spacing at the minimum sigma)";
+      break;
+    }
+  }
+  if (stop.str().empty())
+  {
+    stop << "cpd: " << iteration << " iterations (the maximum), sigma " << std::sqrt(sigma2) << " mm";
+  }
+  m_StopConditionDescription = stop.str();
+  m_FinalRegularizationWeight = lambda;
+
+  setCoefficients(coefficient);
+  auto * output = static_cast<DecoratedTransformType *>(this->ProcessObject::GetOutput(0));
+  output->Set(transform);
+  this->UpdateProgress(1.0f);
+}
+
+template <typename TFixedMesh, typename TMovingMesh>
+void
+BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::PrintSelf(std::ostream & os, Indent indent) const
+{
+  Superclass::PrintSelf(os, indent);
+  os << indent << "NumberOfControlPointsPerAxis: " << m_NumberOfControlPointsPerAxis << std::endl;
+  os << indent << "TransformDomainOrigin: " << m_TransformDomainOrigin << std::endl;
+  os << indent << "TransformDomainPhysicalDimensions: " << m_TransformDomainPhysicalDimensions << std::endl;
+  os << indent << "DomainMargin: " << m_DomainMargin << std::endl;
+  os << indent << "RegularizationWeight: " << m_RegularizationWeight << std::endl;
+  os << indent << "ForwardWeight: " << m_ForwardWeight << std::endl;
+  os << indent << "OutlierWeight: " << m_OutlierWeight << std::endl;
+  os << indent << "NumberOfIterations: " << m_NumberOfIterations << std::endl;
+  os << indent << "InitialSigma: " << m_InitialSigma << std::endl;
+  os << indent << "MinimumSigma: " << m_MinimumSigma << std::endl;
+  os << indent << "OpenBoundaryDistance: " << m_OpenBoundaryDistance << std::endl;
+  os << indent << "NumberOfFixedSamples: " << m_NumberOfFixedSamples << std::endl;
+  os << indent << "NumberOfMovingSamples: " << m_NumberOfMovingSamples << std::endl;
+  os << indent << "NumberOfNeighbors: " << m_NumberOfNeighbors << std::endl;
+  os << indent << "MinimumJacobianDeterminant: " << m_MinimumJacobianDeterminant << std::endl;
+  os << indent << "NumberOfSolverIterations: " << m_NumberOfSolverIterations << std::endl;
+  os << indent << "RandomSeed: " << m_RandomSeed << std::endl;
+  os << indent << "MaximumRunTime: " << m_MaximumRunTime << std::endl;
+  os << indent << "TimeLimitReached: " << m_TimeLimitReached << std::endl;
+  os << indent << "NumberOfIterationsRun: " << m_SigmaValues.size() << std::endl;
+  os << indent << "NumberOfRegularizationIncreases: " << m_NumberOfRegularizationIncreases << std::endl;
+  os << indent << "FinalRegularizationWeight: " << m_FinalRegularizationWeight << std::endl;
+  os << indent << "StopConditionDescription: " << m_StopConditionDescription << std::endl;
+}
+} // namespace itk
+
+#endif // itkBSplineCoherentPointDriftRegistrationMethod_hxx
