@@ -46,6 +46,8 @@ if grep -E "ERROR: (Address|Leak)Sanitizer|runtime error:" "$build_dir/ctest-san
   exit 1
 fi
 if [ "$status" -ne 0 ]; then
+  # The names of the failed tests, last, so that a log cut to its end still shows them.
+  sed -n '/The following tests FAILED/,$p' "$build_dir/ctest-sanitize.log" >&2
   echo "error: tests failed under the sanitizers (see $build_dir/ctest-sanitize.log)" >&2
   exit "$status"
 fi
