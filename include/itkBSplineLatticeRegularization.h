@@ -41,7 +41,9 @@ inline Eigen::SparseMatrix<double>
 BSplineLatticeBendingMatrix(const std::array<size_t, 3> & size)
 {
   using Triplet = Eigen::Triplet<double>;
-  const auto index = [&size](size_t i, size_t j, size_t k) { return static_cast<int>(i + size[0] * (j + size[1] * k)); };
+  const auto index = [&size](size_t i, size_t j, size_t k) {
+    return static_cast<int>(i + size[0] * (j + size[1] * k));
+  };
   std::vector<Triplet> rows;
   int                  row = 0;
   const double         mixed = std::sqrt(2.0);

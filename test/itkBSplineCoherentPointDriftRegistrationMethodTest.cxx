@@ -112,10 +112,10 @@ TestBendingMatrix()
 int
 TestSupportWeights()
 {
-  auto                            transform = BSplineType::New();
-  BSplineType::MeshSizeType       meshSize;
+  auto                                transform = BSplineType::New();
+  BSplineType::MeshSizeType           meshSize;
   BSplineType::PhysicalDimensionsType dimensions;
-  BSplineType::OriginType         origin;
+  BSplineType::OriginType             origin;
   for (unsigned int d = 0; d < 3; ++d)
   {
     meshSize[d] = 4 + d;
@@ -245,8 +245,8 @@ itkBSplineCoherentPointDriftRegistrationMethodTest(int, char *[])
   ITK_TRY_EXPECT_NO_EXCEPTION(registration->Update());
   const auto * transform = dynamic_cast<const BSplineType *>(registration->GetTransform());
   ITK_TEST_EXPECT_TRUE(transform != nullptr);
-  const double after = ForwardTrueError(transform, source, target, truth);
-  double       minimumDeterminant = itk::NumericTraits<double>::max();
+  const double                                     after = ForwardTrueError(transform, source, target, truth);
+  double                                           minimumDeterminant = itk::NumericTraits<double>::max();
   itk::detail::SpatialJacobianEvaluator<double, 3> jacobian;
   jacobian.Initialize(transform);
   itk::Matrix<double, 3, 3> matrix;
@@ -269,7 +269,9 @@ itkBSplineCoherentPointDriftRegistrationMethodTest(int, char *[])
   ITK_TEST_EXPECT_TRUE(!registration->GetTimeLimitReached());
 
   // From an initial B-spline: its grid is kept, and a further run from the result does not undo it.
-  auto start = BSplineType::New();
+  // (The first result is replaced by the next Update(): what is compared later is kept now.)
+  const unsigned int firstNumberOfParameters = transform->GetNumberOfParameters();
+  auto               start = BSplineType::New();
   start->SetFixedParameters(transform->GetFixedParameters());
   start->SetParameters(transform->GetParameters());
   decorated->Set(start);
@@ -280,7 +282,7 @@ itkBSplineCoherentPointDriftRegistrationMethodTest(int, char *[])
   ITK_TRY_EXPECT_NO_EXCEPTION(registration->Update());
   const double again = ForwardTrueError(registration->GetTransform(), source, target, truth);
   std::cout << "from the result, 3 more iterations: " << again << " mm" << std::endl;
-  ITK_TEST_EXPECT_EQUAL(registration->GetTransform()->GetNumberOfParameters(), transform->GetNumberOfParameters());
+  ITK_TEST_EXPECT_EQUAL(registration->GetTransform()->GetNumberOfParameters(), firstNumberOfParameters);
   ITK_TEST_EXPECT_TRUE(again < 1.1 * after);
 
   // A run-time limit that is over at once: no iteration, the start transform, the limit reported.
