@@ -17,7 +17,7 @@
  *=========================================================================*/
 // ffd-benchmark-tool: the C++ helpers of the benchmark (benchmark/README.md).
 //
-//   ffd-benchmark-tool case --mesh M --out-dir DIR --truth-dir DIR --regime paper|smooth --seed S
+//   ffd-benchmark-tool case --mesh M --out-dir DIR --truth-dir DIR --regime paper|smooth|short --seed S
 //                           [--fraction F] [--grid N] [--margin MM]
 //       scales M so its largest side is 100 mm (DIR/source.off), cuts the central box (F of each axis),
 //       draws T_true (target space -> source space, RandomBSplineTransformGenerator, N^3 lattice around
@@ -85,7 +85,7 @@ using ffd::JsonString;
 using ffd::OneLine;
 
 const char * const Usage =
-  "usage: ffd-benchmark-tool case --mesh M --out-dir DIR --truth-dir DIR --regime paper|smooth --seed S\n"
+  "usage: ffd-benchmark-tool case --mesh M --out-dir DIR --truth-dir DIR --regime paper|smooth|short --seed S\n"
   "                               [--fraction 0.6] [--grid 20] [--margin 5]\n"
   "       ffd-benchmark-tool apply-field --source S --field F --output D [--report R.json]\n"
   "       ffd-benchmark-tool score --deformed D --target T --truth TRUTH.txt --output SCORE.json\n"
@@ -273,10 +273,13 @@ RunCase(const ArgumentMap & options)
   const double      fraction = NumberOr(options, "--fraction", 0.6);
   const double      grid = NumberOr(options, "--grid", 20);
   const double      margin = NumberOr(options, "--margin", 5.0);
-  if (regime != "paper" && regime != "smooth")
+  if (regime != "paper" && regime != "smooth" && regime != "short")
   {
-    throw Error("--regime must be paper or smooth, not '" + regime + "'");
+    throw Error("--regime must be paper, smooth or short, not '" + regime + "'");
   }
+  // smooth: Gaussian noise smoothed over 2.5 control spacings; short (a second noise model, to check that what is
+  // chosen on smooth holds): over 1.25 control spacings, the same RMS target.
+  const double smoothingSigma = regime == "short" ? 1.25 : 2.5;
   if (seedNumber < 0 || seedNumber != std::floor(seedNumber) || seedNumber > 4.0e9)
   {
     throw Error("--seed must be a whole number >= 0");
@@ -407,7 +410,7 @@ RunCase(const ArgumentMap & options)
   else
   {
     generator->SetNoise(GeneratorType::NoiseEnum::SmoothedGaussian);
-    generator->SetSmoothingSigma(2.5);
+    generator->SetSmoothingSigma(smoothingSigma);
     for (;;)
     {
       generator->SetRMSDisplacement(rms);
@@ -506,8 +509,8 @@ RunCase(const ArgumentMap & options)
        << ",\n  \"fraction\": " << fraction << ",\n  \"grid\": " << grid << ",\n  \"margin\": " << margin
        << ",\n  \"noise\": "
        << (regime == "paper" ? "{ \"type\": \"ClippedGaussian\", \"sigma\": 1, \"clip\": 1 }"
-                             : "{ \"type\": \"SmoothedGaussian\", \"smoothing_sigma\": 2.5, \"rms_control\": " +
-                                 ffd::JsonNumber(rms) + " }")
+                             : "{ \"type\": \"SmoothedGaussian\", \"smoothing_sigma\": " +
+                                 ffd::JsonNumber(smoothingSigma) + ", \"rms_control\": " + ffd::JsonNumber(rms) + " }")
        << ",\n  \"min_jacobian_determinant\": " << ffd::JsonNumber(generator->GetMinimumJacobianDeterminant())
        << ",\n  \"max_jacobian_determinant\": " << ffd::JsonNumber(generator->GetMaximumJacobianDeterminant())
        << ",\n  \"region_low\": [" << regionLow[0] << ", " << regionLow[1] << ", " << regionLow[2] << "]"

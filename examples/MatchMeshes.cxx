@@ -1,6 +1,6 @@
-// Matches a source mesh to a target mesh with method GO and writes the deformed source:
+// Matches a source mesh to a target mesh with the default method (go+cpd) and writes the deformed source:
 //   MatchMeshes SOURCE TARGET OUTPUT [CONTROL_POINTS_PER_AXIS] [VOXEL_SIZE]
-// The same as: ffd-match --source SOURCE --target TARGET --method go --output OUTPUT --grid N --voxel-size S
+// The same as: ffd-match --source SOURCE --target TARGET --output OUTPUT --grid N --voxel-size S
 #include "itkMeshFileReader.h"
 #include "itkMeshFileWriter.h"
 #include "itkMeshShapeMatchingFilter.h"
@@ -31,7 +31,7 @@ main(int argc, char * argv[])
     auto matching = itk::MeshShapeMatchingFilter<MeshType>::New();
     matching->SetSourceMesh(source->GetOutput());
     matching->SetTargetMesh(target->GetOutput());
-    matching->SetMethod(itk::FFDShapeMatchingEnums::Method::GO);
+    matching->SetMethod(itk::FFDShapeMatchingEnums::Method::GOCPD); // the default; GO, MRF, Par... selectable
     matching->SetNumberOfControlPointsPerAxis(argc > 4 ? std::stoi(argv[4]) : 20);
     matching->SetVoxelSize(argc > 5 ? std::stod(argv[5]) : 1.0);
 

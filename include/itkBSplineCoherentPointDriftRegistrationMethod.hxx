@@ -397,6 +397,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     }
     basis.setFromTriplets(entries.begin(), entries.end());
   }
+  const SparseMatrix basisTransposed = basis.transpose();
   const SparseMatrix bending = detail::BSplineLatticeBendingMatrix({ gridSize[0], gridSize[1], gridSize[2] });
   SparseMatrix       identity(static_cast<Eigen::Index>(numberOfCoefficients),
                         static_cast<Eigen::Index>(numberOfCoefficients));
@@ -451,6 +452,9 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
       : (refining ? std::min(sigmaCeiling, std::max(10.0 * startDistance, 1e-3 * spacing)) : sigmaCeiling);
   const double sigmaFloor =
     m_MinimumSigma > 0.0 ? m_MinimumSigma : (refining ? std::min(0.15 * spacing, 0.5 * sigmaStart) : 0.25 * spacing);
+  // Over-relaxation: measured on the benchmark from GO's result, where what is left is sliding along the surface
+  // (1.8); from the identity, where the shape is still being found, plain EM.
+  const double overRelaxation = m_OverRelaxation > 0.0 ? m_OverRelaxation : (refining ? 1.8 : 1.0);
   const double boundaryDistance = m_OpenBoundaryDistance > 0.0 ? m_OpenBoundaryDistance : 2.0 * sigmaFloor;
 
   // Target samples near the open boundary.
@@ -491,6 +495,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
 
   std::ostringstream stop;
   unsigned int       iteration = 0;
+
   for (; iteration < m_NumberOfIterations; ++iteration)
   {
     if (m_MaximumRunTime > 0.0 && std::chrono::duration<double>(ClockType::now() - start).count() > m_MaximumRunTime)
@@ -647,10 +652,24 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
         right(m, d) = pulled[m][d] - mass[m] * target(m, d);
       }
     }
-    const SparseMatrix    data = basis.transpose() * massVector.asDiagonal() * basis;
+    const SparseMatrix    weighted = massVector.asDiagonal() * basis;
+    const SparseMatrix    data = basisTransposed * weighted;
     const Eigen::MatrixXd rhs = basis.transpose() * right;
     const double          scale = sigma2 / (spacing * spacing) * totalMass / 1000.0;
     Eigen::MatrixXd       solved = coefficient;
+    const auto            minimumDeterminantOf = [&](const Eigen::MatrixXd & values) {
+      setCoefficients(values);
+      detail::SpatialJacobianEvaluator<double, Dimension> jacobian;
+      jacobian.Initialize(transform);
+      double                                                                   minimum = NumericTraits<double>::max();
+      typename detail::SpatialJacobianEvaluator<double, Dimension>::MatrixType matrix;
+      for (size_t m = 0; m < numberOfFixed; ++m)
+      {
+        jacobian.Evaluate(y[m], matrix);
+        minimum = std::min(minimum, detail::Determinant3(matrix));
+      }
+      return minimum;
+    };
     for (unsigned int attempt = 0;; ++attempt)
     {
       const SparseMatrix system = data + (lambda * scale) * (bending + 1e-3 * identity);
@@ -663,17 +682,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
         solved.col(d) = solver.solveWithGuess(rhs.col(d), coefficient.col(d));
       }
       // Fold check at the target samples.
-      setCoefficients(solved);
-      detail::SpatialJacobianEvaluator<double, Dimension> jacobian;
-      jacobian.Initialize(transform);
-      double                                                                   minimum = NumericTraits<double>::max();
-      typename detail::SpatialJacobianEvaluator<double, Dimension>::MatrixType matrix;
-      for (size_t m = 0; m < numberOfFixed; ++m)
-      {
-        jacobian.Evaluate(y[m], matrix);
-        minimum = std::min(minimum, detail::Determinant3(matrix));
-      }
-      if (minimum >= m_MinimumJacobianDeterminant || attempt >= 6)
+      if (minimumDeterminantOf(solved) >= m_MinimumJacobianDeterminant || attempt >= 6)
       {
         break;
       }
@@ -681,8 +690,18 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
       ++m_NumberOfRegularizationIncreases;
     }
     const double change = (solved - coefficient).cwiseAbs().maxCoeff();
+    // Over-relaxed step, once sigma is at its floor: EM at a small width slides along the surface in many short
+    // steps; going further along each step's direction converges in fewer iterations. The plain step is kept where
+    // the longer one would fold. (While sigma still shrinks, a longer step overshoots.)
+    if (overRelaxation > 1.0 && std::sqrt(sigma2) <= sigmaFloor * (1.0 + 1e-6))
+    {
+      const Eigen::MatrixXd relaxed = coefficient + overRelaxation * (solved - coefficient);
+      if (minimumDeterminantOf(relaxed) >= m_MinimumJacobianDeterminant)
+      {
+        solved = relaxed;
+      }
+    }
     coefficient = solved;
-
     // sigma^2 from the new positions.
     const double newResidual = residualAt(target + basis * coefficient);
     sigma2 = std::max(newResidual / (Dimension * totalMass), sigmaFloor * sigmaFloor);
@@ -722,6 +741,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::PrintSelf(
   os << indent << "ForwardWeight: " << m_ForwardWeight << std::endl;
   os << indent << "OutlierWeight: " << m_OutlierWeight << std::endl;
   os << indent << "NumberOfIterations: " << m_NumberOfIterations << std::endl;
+  os << indent << "OverRelaxation: " << m_OverRelaxation << std::endl;
   os << indent << "InitialSigma: " << m_InitialSigma << std::endl;
   os << indent << "MinimumSigma: " << m_MinimumSigma << std::endl;
   os << indent << "OpenBoundaryDistance: " << m_OpenBoundaryDistance << std::endl;

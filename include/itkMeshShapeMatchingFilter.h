@@ -66,7 +66,7 @@ namespace itk
  * auto matching = itk::MeshShapeMatchingFilter<MeshType>::New();
  * matching->SetSourceMesh(source);
  * matching->SetTargetMesh(target);
- * matching->SetMethod(itk::FFDShapeMatchingEnums::Method::GO);
+ * matching->SetMethod(itk::FFDShapeMatchingEnums::Method::GOCPD); // the default
  * matching->SetNumberOfControlPointsPerAxis(20);
  * matching->SetVoxelSize(1.0);
  * matching->Update();
@@ -130,7 +130,8 @@ public:
   /** The templates of the Par methods (required by Par, GOPar and MRFPar; see ParametricTemplateTransform). */
   itkSetGetDecoratedObjectInputMacro(TemplateTransform, ParametricTransformType);
 
-  /** The method. Default: GO. */
+  /** The method. Default: GOCPD (GO refined by coherent point drift on the meshes), the most accurate on the
+   * module's benchmark (benchmark/PEERS_MESH.md). */
   itkSetEnumMacro(Method, MethodEnum);
   itkGetEnumMacro(Method, MethodEnum);
 
@@ -300,7 +301,7 @@ private:
   const DecoratedTransformType *
   RegisterPoints(const DecoratedTransformType * base, double timeLimit);
 
-  MethodEnum       m_Method{ MethodEnum::GO };
+  MethodEnum       m_Method{ MethodEnum::GOCPD };
   VoxelizationEnum m_Voxelization{ VoxelizationEnum::SignedDistance };
   double           m_VoxelSize{ 1.0 };
   double           m_BandWidthInVoxels{ 2.0 };

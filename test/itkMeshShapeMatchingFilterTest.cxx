@@ -145,7 +145,7 @@ itkMeshShapeMatchingFilterTest(int, char *[])
   ITK_EXERCISE_BASIC_OBJECT_METHODS(filter, MeshShapeMatchingFilter, MeshToMeshFilter);
 
   // The tuned defaults.
-  ITK_TEST_EXPECT_EQUAL(filter->GetMethod(), itk::FFDShapeMatchingEnums::Method::GO);
+  ITK_TEST_EXPECT_EQUAL(filter->GetMethod(), itk::FFDShapeMatchingEnums::Method::GOCPD);
   ITK_TEST_EXPECT_EQUAL(filter->GetVoxelization(), itk::FFDShapeMatchingEnums::Voxelization::SignedDistance);
   ITK_TEST_EXPECT_EQUAL(filter->GetNumberOfControlPointsPerAxis(), 20);
   ITK_TEST_EXPECT_EQUAL(filter->GetNumberOfIterationsOf(itk::FFDShapeMatchingEnums::Method::GO), 50);

@@ -58,7 +58,7 @@ set_tests_properties(FFDShapeMatchingInstallConsumerRun PROPERTIES FIXTURES_REQU
   PASS_REGULAR_EXPRESSION "cube.off: 8 points, 12 cells\n.*box.ply: 8 points, 12 cells\nvoxelized 12x12x8, 256 inside")
 
 # The README's example built against the prefix writes the same mesh, byte for byte, as the installed ffd-match
-# --method go with the same grid and voxel size (on the demo's meshes).
+# with its default method (go+cpd), the same grid and voxel size (on the demo's meshes).
 if(FFDShapeMatching_BUILD_APPLICATIONS)
   set(_ffd_demo ${ITK_TEST_OUTPUT_DIR}/ffd-match-demo)
   add_test(NAME FFDShapeMatchingInstalledExample
@@ -66,7 +66,7 @@ if(FFDShapeMatching_BUILD_APPLICATIONS)
       ${_ffd_consumer_work}/example.off 8 2)
   add_test(NAME FFDShapeMatchingInstalledExampleProgram
     COMMAND ${_ffd_prefix}/${CMAKE_INSTALL_BINDIR}/ffd-match --source ${_ffd_demo}/source.vtp
-      --target ${_ffd_demo}/target.vtp --method go --grid 8 --voxel-size 2 --output ${_ffd_consumer_work}/program.off)
+      --target ${_ffd_demo}/target.vtp --grid 8 --voxel-size 2 --output ${_ffd_consumer_work}/program.off)
   add_test(NAME FFDShapeMatchingInstalledExampleSameAsProgram
     COMMAND ${CMAKE_COMMAND} -E compare_files ${_ffd_consumer_work}/example.off ${_ffd_consumer_work}/program.off)
   set_tests_properties(FFDShapeMatchingInstalledExample PROPERTIES DEPENDS ffd-matchDemo
