@@ -73,7 +73,8 @@ struct Options
   std::optional<double>       foldingWeight;
   std::optional<double>       mrfWeight;
   std::optional<bool>         mrfPyramid;
-  std::optional<double>       timeLimit; // seconds of registration
+  std::optional<double>       timeLimit;                  // seconds of registration
+  std::string                 initialTransform{ "none" }; // the pose stage: none, rigid, similarity or affine
 };
 
 /** The options of the command line; throws Error on a bad one. --help prints the usage and exits. */

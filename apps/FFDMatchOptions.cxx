@@ -42,7 +42,7 @@ Usage()
            "                 [--grid N] [--voxel-size S] [--voxelization occupancy|solid|sdf]\n"
            "                 [--templates FILE.tfm] [--template-split none|control-point|axis]\n"
            "                 [--transform-out FILE.tfm] [--report FILE.json] [--snapshot FILE.png]\n"
-           "                 [--threads N] [--seed S]\n"
+           "                 [--initial-transform none|rigid|similarity|affine] [--threads N] [--seed S]\n"
            "                 [--levels L] [--iterations N] [--sampling P]\n"
            "                 [--time-limit SECONDS] [--memory-limit MB]\n"
            "                 [--bending-weight W] [--folding-weight W] [--mrf-weight W] [--mrf-pyramid on|off]\n"
@@ -74,6 +74,10 @@ Usage()
            "                  occupancy: surface voxels, Mattes mutual information; solid: inside voxels\n"
            "                  (winding number), Mattes mutual information. The metric samples a band\n"
            "                  around the target surface.\n"
+           "  --initial-transform  the pose stage before the deformation: none (default; the meshes must\n"
+           "                  overlap), or a rigid, similarity (rigid + isotropic scale) or affine pose found\n"
+           "                  from any rotation, scale and translation, with a partial target; T is then the\n"
+           "                  composite of the deformation and the pose\n"
            "  --transform-out write T (target space -> source space) as an ITK transform file\n"
            "  --report        write a JSON report (stage times, metric per iteration, distances, ...)\n"
            "  --snapshot      write a before/after picture (PNG; VTK off-screen rendering needs an X display:\n"
@@ -187,6 +191,16 @@ ParseArguments(int argc, char * argv[])
       if (*options.voxelization != "occupancy" && *options.voxelization != "solid" && *options.voxelization != "sdf")
       {
         throw Error("--voxelization must be occupancy, solid or sdf, not '" + *options.voxelization + "'");
+      }
+    }
+    else if (argument == "--initial-transform")
+    {
+      options.initialTransform = value();
+      itk::FFDShapeMatchingEnums::InitialTransform parsed = itk::FFDShapeMatchingEnums::InitialTransform::None;
+      if (!itk::FFDShapeMatchingEnums::InitialTransformFromString(options.initialTransform, parsed))
+      {
+        throw Error("--initial-transform must be none, rigid, similarity or affine, not '" + options.initialTransform +
+                    "'");
       }
     }
     else if (argument == "--transform-out")

@@ -237,6 +237,9 @@ NewMatchingFilter(const Options & options)
   Enums::Method method = Enums::Method::GO;
   Enums::MethodFromString(options.method, method);
   filter->SetMethod(method);
+  Enums::InitialTransform initialTransform = Enums::InitialTransform::None;
+  Enums::InitialTransformFromString(options.initialTransform, initialTransform);
+  filter->SetInitialTransform(initialTransform);
   if (options.voxelization)
   {
     Enums::Voxelization voxelization = Enums::Voxelization::SignedDistance;

@@ -72,7 +72,20 @@ MatchReportJson(const Options & options, const MatchRecord & r)
          << "  \"target_open_boundary_edges\": " << r.openBoundaryEdges << ",\n"
          << "  \"source_vertices\": " << r.sourceVertices << ",\n"
          << "  \"target_vertices\": " << r.targetVertices << ",\n"
-         << "  \"seconds\": { \"read\": " << JsonNumber(r.readSeconds)
+         << "  \"initial_transform\": " << JsonString(r.initialTransform) << ",\n";
+  if (r.initialTransform != "none")
+  {
+    report << "  \"pose\": { \"direction\": \"target to source\", \"rotation_angle_degrees\": "
+           << JsonNumber(r.poseAngle) << ", \"rotation_axis\": [" << JsonNumber(r.poseAxis[0]) << ", "
+           << JsonNumber(r.poseAxis[1]) << ", " << JsonNumber(r.poseAxis[2])
+           << "], \"scale\": " << JsonNumber(r.poseScale) << ", \"translation\": [" << JsonNumber(r.poseTranslation[0])
+           << ", " << JsonNumber(r.poseTranslation[1]) << ", " << JsonNumber(r.poseTranslation[2])
+           << "], \"score\": " << JsonNumber(r.poseScore)
+           << ", \"runner_up_score\": " << JsonNumber(r.poseRunnerUpScore)
+           << ", \"runner_up_rotation_distance_degrees\": " << JsonNumber(r.poseRunnerUpDistance)
+           << ", \"seconds\": " << JsonNumber(r.poseSeconds) << " },\n";
+  }
+  report << "  \"seconds\": { \"read\": " << JsonNumber(r.readSeconds) << ", \"pose\": " << JsonNumber(r.poseSeconds)
          << ", \"voxelize\": " << JsonNumber(r.voxelizeSeconds) << ", \"register\": " << JsonNumber(r.registerSeconds)
          << ", \"apply\": " << JsonNumber(r.applySeconds) << ", \"score\": " << JsonNumber(r.scoreSeconds)
          << ", \"write\": " << JsonNumber(r.writeSeconds) << ", \"total\": " << JsonNumber(r.totalSeconds) << " },\n"

@@ -73,6 +73,17 @@ struct MatchRecord
   double scoreSeconds{ 0.0 };
   double writeSeconds{ 0.0 };
   double totalSeconds{ 0.0 };
+  // The pose stage (none: the rest is unused): A : target -> source as rotation angle (degrees) and axis, scale,
+  // translation of the target centroid, trimmed distance score and the runner-up's.
+  std::string initialTransform{ "none" };
+  double      poseSeconds{ 0.0 };
+  double      poseAngle{ 0.0 };
+  double      poseAxis[3]{ 0.0, 0.0, 1.0 };
+  double      poseScale{ 1.0 };
+  double      poseTranslation[3]{ 0.0, 0.0, 0.0 };
+  double      poseScore{ 0.0 };
+  double      poseRunnerUpScore{ 0.0 };
+  double      poseRunnerUpDistance{ 0.0 };
   // The scores.
   double      meanDistanceBefore{ 0.0 };
   double      hausdorffBefore{ 0.0 };

@@ -153,19 +153,35 @@ Match(const Options & options, const GroundTruth * truth, const std::string & de
   const MatchingFilterType::Pointer matching = NewMatchingFilter(options);
   matching->SetSourceMesh(source);
   matching->SetTargetMesh(target);
-  try
+  // Without a pose stage the meshes must overlap already; with one, the filter checks it after the pose.
+  if (matching->GetInitialTransform() == itk::FFDShapeMatchingEnums::InitialTransform::None)
   {
-    MatchingFilterType::CheckOverlap(source, target, matching->GetBandWidth());
-  }
-  catch (const itk::ExceptionObject & error)
-  {
-    throw Error(OneLine(error.GetDescription()));
+    try
+    {
+      MatchingFilterType::CheckOverlap(source, target, matching->GetBandWidth());
+    }
+    catch (const itk::ExceptionObject & error)
+    {
+      throw Error(OneLine(error.GetDescription()));
+    }
   }
   CheckMemory(source, target, matching, options.memoryLimit);
   RunMatchingFilter(matching);
   const MeshType *                          deformed = matching->GetOutput();
   const MatchingFilterType::TransformType * transform = matching->GetTransform();
   const auto *                              apply = matching->GetModifiableMeshTransformFilter();
+  const bool   posed = matching->GetInitialTransform() != itk::FFDShapeMatchingEnums::InitialTransform::None;
+  const auto * pose = matching->GetModifiablePoseRegistration();
+  if (posed)
+  {
+    std::cerr << "ffd-match: pose (" << options.initialTransform << ", target -> source): rotation " << std::fixed
+              << std::setprecision(2) << pose->GetRotationAngle() << " deg about (" << std::setprecision(3)
+              << pose->GetRotationAxis()[0] << ", " << pose->GetRotationAxis()[1] << ", " << pose->GetRotationAxis()[2]
+              << "), scale " << std::setprecision(4) << pose->GetScale() << ", translation (" << std::setprecision(2)
+              << pose->GetTranslation()[0] << ", " << pose->GetTranslation()[1] << ", " << pose->GetTranslation()[2]
+              << "); score " << std::setprecision(3) << pose->GetScore() << " (runner-up " << pose->GetRunnerUpScore()
+              << ") (" << std::setprecision(2) << matching->GetPoseTime() << " s)" << std::endl;
+  }
   std::cerr << "ffd-match: voxelize: " << std::fixed << std::setprecision(2) << matching->GetVoxelizationTime()
             << " s; register: " << matching->GetMetricValues().size() << " iterations, " << std::fixed
             << std::setprecision(2) << matching->GetRegistrationTime() << " s"
@@ -186,7 +202,9 @@ Match(const Options & options, const GroundTruth * truth, const std::string & de
   after->SetTargetMesh(deformed);
   after->Compute();
   auto jacobian = JacobianFilterType::New();
-  jacobian->SetTransformInput(matching->GetTransformOutput());
+  // The deformation's Jacobian (B, on the grid of the target as the deformation stage saw it, the posed target):
+  // without a pose stage that is T itself; with one, T's is B's times the pose's determinant.
+  jacobian->SetTransformInput(matching->GetDeformationTransformOutput());
   jacobian->SetReferenceImage(matching->GetModifiableTargetVoxelizer()->GetOutput());
   jacobian->UseReferenceImageOn();
   jacobian->Update();
@@ -260,6 +278,21 @@ Match(const Options & options, const GroundTruth * truth, const std::string & de
     record.openBoundaryEdges = matching->GetNumberOfOpenBoundaryEdges();
     record.sourceVertices = source->GetNumberOfPoints();
     record.targetVertices = target->GetNumberOfPoints();
+    record.initialTransform = itk::FFDShapeMatchingEnums::InitialTransformToString(matching->GetInitialTransform());
+    if (posed)
+    {
+      record.poseSeconds = matching->GetPoseTime();
+      record.poseAngle = pose->GetRotationAngle();
+      record.poseScale = pose->GetScale();
+      record.poseScore = pose->GetScore();
+      record.poseRunnerUpScore = pose->GetRunnerUpScore();
+      record.poseRunnerUpDistance = pose->GetRunnerUpRotationDistance();
+      for (unsigned int d = 0; d < 3; ++d)
+      {
+        record.poseAxis[d] = pose->GetRotationAxis()[d];
+        record.poseTranslation[d] = pose->GetTranslation()[d];
+      }
+    }
     record.voxelizeSeconds = matching->GetVoxelizationTime();
     record.registerSeconds = matching->GetRegistrationTime();
     record.applySeconds = matching->GetMeshTransformTime();

@@ -23,13 +23,13 @@
 #include "itkContinuousIndex.h"
 #include "itkCubicBSplineKernel.h"
 #include "itkMultiThreaderBase.h"
+#include "itkPointCloudKdTree.h"
 #include "itkPointsLocator.h"
 #include "itkSpatialJacobianEvaluator.h"
 #include "itkVectorContainer.h"
 
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/Sparse>
-#include <nanoflann.hpp>
 
 #include <algorithm>
 #include <array>
@@ -106,38 +106,6 @@ BSplineSupportWeights(const TImage *                 coefficients,
   }
   return true;
 }
-
-/** A vector of ITK points as nanoflann's point cloud. */
-template <typename TPoint>
-struct PointCloudAdaptor
-{
-  const std::vector<TPoint> & Points;
-
-  size_t
-  kdtree_get_point_count() const
-  {
-    return Points.size();
-  }
-  double
-  kdtree_get_pt(size_t index, size_t dimension) const
-  {
-    return Points[index][dimension];
-  }
-  template <typename TBox>
-  bool
-  kdtree_get_bbox(TBox &) const
-  {
-    return false;
-  }
-};
-
-/** nanoflann's k-d tree over a PointCloudAdaptor (Euclidean distance, 3-D). */
-template <typename TPoint>
-using PointCloudKdTree =
-  nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointCloudAdaptor<TPoint>>,
-                                      PointCloudAdaptor<TPoint>,
-                                      3,
-                                      size_t>;
 
 /** The determinant of a 3 x 3 matrix. */
 template <typename TMatrix>

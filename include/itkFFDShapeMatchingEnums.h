@@ -83,6 +83,16 @@ public:
     RegularStepGradientDescent
   };
 
+  /** The pose stage before the deformation (MeshPoseRegistrationMethod): none, or a global search for a rigid,
+   * similarity (rigid and isotropic scale) or affine transform from any pose, with a partial target. */
+  enum class InitialTransform : uint8_t
+  {
+    None,
+    Rigid,
+    Similarity,
+    Affine
+  };
+
   /** The command-line spelling of a method: "go", "mrf", "par", "go+par", "mrf+par" or "go+cpd". */
   static std::string
   MethodToString(Method method);
@@ -100,6 +110,15 @@ public:
    * leaves \c voxelization unchanged when \c text names none. */
   static bool
   VoxelizationFromString(const std::string & text, Voxelization & voxelization);
+
+  /** The command-line spelling of a pose stage: "none", "rigid", "similarity" or "affine". */
+  static std::string
+  InitialTransformToString(InitialTransform initialTransform);
+
+  /** Parses the command-line spelling of a pose stage (case-insensitive). Returns false and leaves
+   * \c initialTransform unchanged when \c text names none. */
+  static bool
+  InitialTransformFromString(const std::string & text, InitialTransform & initialTransform);
 };
 
 /** Prints the qualified name of the enumerator, e.g. "itk::FFDShapeMatchingEnums::Method::GO". */
@@ -117,6 +136,10 @@ extern FFDShapeMatching_EXPORT std::ostream &
 /** Prints the qualified name of the enumerator. */
 extern FFDShapeMatching_EXPORT std::ostream &
                                operator<<(std::ostream & out, const FFDShapeMatchingEnums::Voxelization value);
+
+/** Prints the qualified name of the enumerator. */
+extern FFDShapeMatching_EXPORT std::ostream &
+                               operator<<(std::ostream & out, const FFDShapeMatchingEnums::InitialTransform value);
 
 } // namespace itk
 

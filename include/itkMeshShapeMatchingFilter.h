@@ -19,6 +19,7 @@
 #define itkMeshShapeMatchingFilter_h
 
 #include "itkApplyTransformToMeshFilter.h"
+#include "itkCompositeTransform.h"
 #include "itkBSplineCoherentPointDriftRegistrationMethod.h"
 #include "itkBSplineFFDImageRegistrationMethod.h"
 #include "itkBSplineMRFImageRegistrationMethod.h"
@@ -26,6 +27,7 @@
 #include "itkFFDShapeMatchingEnums.h"
 #include "itkImage.h"
 #include "itkMeshOpenBoundaryMaskImageFilter.h"
+#include "itkMeshPoseRegistrationMethod.h"
 #include "itkMeshToMeshFilter.h"
 #include "itkParametricTemplateRegistrationMethod.h"
 #include "itkParametricTemplateTransform.h"
@@ -43,6 +45,10 @@ namespace itk
  * The source mesh (SetSourceMesh(), the same as SetInput()) is moved onto the target mesh (SetTargetMesh()), which
  * may be a partial, open surface patch. The filter is a mini-pipeline of the module's public filters:
  *
+ * 0. with an InitialTransform (rigid, similarity or affine; default none), MeshPoseRegistrationMethod finds the pose
+ *    A : target space -> source space from any start, and the target is moved into the source's frame by A
+ *    (GetMatchingTargetMesh()); the deformation B below is estimated between the source and that moved target,
+ *    and T = B o A (one CompositeTransform: A applied first) is the transform of the whole;
  * 1. both meshes are voxelized on the same voxel size (TriangleMeshToVoxelImageFilter; Voxelization: an unsigned
  *    distance band, surface occupancy or the solid), and the metric mask is the band around the target surface
  *    without the part near the target's open boundary (MeshOpenBoundaryMaskImageFilter);
@@ -110,6 +116,9 @@ public:
   using ParRegistrationType = ParametricTemplateRegistrationMethod<MeshType, MeshType, ImageType>;
   using CPDRegistrationType = BSplineCoherentPointDriftRegistrationMethod<MeshType, MeshType>;
   using MeshTransformFilterType = ApplyTransformToMeshFilter<MeshType, MeshType>;
+  using InitialTransformEnum = FFDShapeMatchingEnums::InitialTransform;
+  using PoseRegistrationType = MeshPoseRegistrationMethod<MeshType, MeshType>;
+  using CompositeTransformType = CompositeTransform<double, Dimension>;
 
   /** The mesh that is moved (the same as SetInput()). */
   void
@@ -134,6 +143,11 @@ public:
    * module's benchmark (benchmark/PEERS_MESH.md). */
   itkSetEnumMacro(Method, MethodEnum);
   itkGetEnumMacro(Method, MethodEnum);
+
+  /** The pose stage before the deformation: None (default; the meshes must overlap), Rigid, Similarity or Affine
+   * (MeshPoseRegistrationMethod, from any rotation, scale and translation, with a partial target). */
+  itkSetEnumMacro(InitialTransform, InitialTransformEnum);
+  itkGetEnumMacro(InitialTransform, InitialTransformEnum);
 
   /** How the meshes become images. Default: SignedDistance (an unsigned distance band; mean squares). */
   itkSetEnumMacro(Voxelization, VoxelizationEnum);
@@ -207,6 +221,22 @@ public:
   const TransformType *
   GetTransform() const;
 
+  /** The deformation stage's transform B : (posed) target space -> source space; T itself without a pose stage. The
+   * Jacobian of the deformation is that of B, on the grid of the target voxelizer's output. */
+  const DecoratedTransformType *
+  GetDeformationTransformOutput() const
+  {
+    return m_DeformationTransform.GetPointer();
+  }
+
+  /** The target as the deformation stage sees it: moved into the source frame by the pose (the target itself
+   * without a pose stage). */
+  const MeshType *
+  GetMatchingTargetMesh() const
+  {
+    return m_MatchingTarget.GetPointer() != nullptr ? m_MatchingTarget.GetPointer() : this->GetTargetMesh();
+  }
+
   /** The margin (mesh units) laid around each mesh's bounds by its voxel grid. */
   double
   GetVoxelGridMargin() const
@@ -234,11 +264,13 @@ public:
   itkGetConstMacro(NumberOfOpenBoundaryEdges, SizeValueType);
 
   /** Wall-clock seconds of the stages of the last Update(). */
+  itkGetConstMacro(PoseTime, double);
   itkGetConstMacro(VoxelizationTime, double);
   itkGetConstMacro(RegistrationTime, double);
   itkGetConstMacro(MeshTransformTime, double);
 
   /** The internal filters, for tuning and for their results (e.g. the voxel images, the inverse's convergence). */
+  itkGetModifiableObjectMacro(PoseRegistration, PoseRegistrationType);
   itkGetModifiableObjectMacro(TargetVoxelizer, VoxelizerType);
   itkGetModifiableObjectMacro(SourceVoxelizer, VoxelizerType);
   itkGetModifiableObjectMacro(BandMaskVoxelizer, MaskVoxelizerType);
@@ -273,6 +305,10 @@ protected:
   GenerateData() override;
 
 private:
+  /** Runs the pose stage and moves the target into the source frame (m_MatchingTarget). */
+  void
+  FindPose();
+
   /** Voxelizes both meshes and builds the metric mask. */
   void
   VoxelizeMeshes();
@@ -301,21 +337,22 @@ private:
   const DecoratedTransformType *
   RegisterPoints(const DecoratedTransformType * base, double timeLimit);
 
-  MethodEnum       m_Method{ MethodEnum::GOCPD };
-  VoxelizationEnum m_Voxelization{ VoxelizationEnum::SignedDistance };
-  double           m_VoxelSize{ 1.0 };
-  double           m_BandWidthInVoxels{ 2.0 };
-  unsigned int     m_NumberOfControlPointsPerAxis{ 20 };
-  unsigned int     m_NumberOfLevels{ 2 };
-  unsigned int     m_NumberOfIterations{ 0 };
-  double           m_SamplingPercentage{ 0.25 };
-  double           m_BendingEnergyWeight{ 1.0 };
-  double           m_FoldingPenaltyWeight{ 0.0 };
-  double           m_MRFRegularizationWeight{ 1.0 };
-  bool             m_MRFUseImagePyramid{ false };
-  double           m_MaximumRunTime{ 0.0 };
-  int              m_RandomSeed{ 121212 };
-  double           m_InverseTolerance{ 1e-4 };
+  MethodEnum           m_Method{ MethodEnum::GOCPD };
+  InitialTransformEnum m_InitialTransform{ InitialTransformEnum::None };
+  VoxelizationEnum     m_Voxelization{ VoxelizationEnum::SignedDistance };
+  double               m_VoxelSize{ 1.0 };
+  double               m_BandWidthInVoxels{ 2.0 };
+  unsigned int         m_NumberOfControlPointsPerAxis{ 20 };
+  unsigned int         m_NumberOfLevels{ 2 };
+  unsigned int         m_NumberOfIterations{ 0 };
+  double               m_SamplingPercentage{ 0.25 };
+  double               m_BendingEnergyWeight{ 1.0 };
+  double               m_FoldingPenaltyWeight{ 0.0 };
+  double               m_MRFRegularizationWeight{ 1.0 };
+  bool                 m_MRFUseImagePyramid{ false };
+  double               m_MaximumRunTime{ 0.0 };
+  int                  m_RandomSeed{ 121212 };
+  double               m_InverseTolerance{ 1e-4 };
 
   std::vector<double> m_MetricValues;
   std::string         m_MetricName;
@@ -323,19 +360,25 @@ private:
   bool                m_TimeLimitReached{ false };
   SizeValueType       m_NumberOfMetricVoxels{ 0 };
   SizeValueType       m_NumberOfOpenBoundaryEdges{ 0 };
+  double              m_PoseTime{ 0.0 };
   double              m_VoxelizationTime{ 0.0 };
   double              m_RegistrationTime{ 0.0 };
   double              m_MeshTransformTime{ 0.0 };
 
-  typename VoxelizerType::Pointer           m_TargetVoxelizer;
-  typename VoxelizerType::Pointer           m_SourceVoxelizer;
-  typename MaskVoxelizerType::Pointer       m_BandMaskVoxelizer;
-  typename OpenBoundaryMaskType::Pointer    m_OpenBoundaryMask;
-  typename GORegistrationType::Pointer      m_GORegistration;
-  typename MRFRegistrationType::Pointer     m_MRFRegistration;
-  typename ParRegistrationType::Pointer     m_ParRegistration;
-  typename CPDRegistrationType::Pointer     m_CPDRegistration;
-  typename MeshTransformFilterType::Pointer m_MeshTransformFilter;
+  typename PoseRegistrationType::Pointer        m_PoseRegistration;
+  typename MeshTransformFilterType::Pointer     m_PoseTransformFilter;
+  typename MeshType::ConstPointer               m_MatchingTarget;
+  typename DecoratedTransformType::Pointer      m_ComposedTransform;
+  typename DecoratedTransformType::ConstPointer m_DeformationTransform;
+  typename VoxelizerType::Pointer               m_TargetVoxelizer;
+  typename VoxelizerType::Pointer               m_SourceVoxelizer;
+  typename MaskVoxelizerType::Pointer           m_BandMaskVoxelizer;
+  typename OpenBoundaryMaskType::Pointer        m_OpenBoundaryMask;
+  typename GORegistrationType::Pointer          m_GORegistration;
+  typename MRFRegistrationType::Pointer         m_MRFRegistration;
+  typename ParRegistrationType::Pointer         m_ParRegistration;
+  typename CPDRegistrationType::Pointer         m_CPDRegistration;
+  typename MeshTransformFilterType::Pointer     m_MeshTransformFilter;
 };
 } // namespace itk
 

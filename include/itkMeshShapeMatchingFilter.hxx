@@ -38,7 +38,10 @@ SecondsSince(std::chrono::steady_clock::time_point start)
 
 template <typename TMesh, typename TImage>
 MeshShapeMatchingFilter<TMesh, TImage>::MeshShapeMatchingFilter()
-  : m_TargetVoxelizer(VoxelizerType::New())
+  : m_PoseRegistration(PoseRegistrationType::New())
+  , m_PoseTransformFilter(MeshTransformFilterType::New())
+  , m_ComposedTransform(DecoratedTransformType::New())
+  , m_TargetVoxelizer(VoxelizerType::New())
   , m_SourceVoxelizer(VoxelizerType::New())
   , m_BandMaskVoxelizer(MaskVoxelizerType::New())
   , m_OpenBoundaryMask(OpenBoundaryMaskType::New())
@@ -131,10 +134,46 @@ MeshShapeMatchingFilter<TMesh, TImage>::VerifyPreconditions() ITKv5_CONST
 
 template <typename TMesh, typename TImage>
 void
-MeshShapeMatchingFilter<TMesh, TImage>::VoxelizeMeshes()
+MeshShapeMatchingFilter<TMesh, TImage>::FindPose()
 {
   const MeshType * source = this->GetSourceMesh();
   const MeshType * target = this->GetTargetMesh();
+  if (source->GetNumberOfPoints() == 0)
+  {
+    itkExceptionMacro(<< "the source mesh has no points");
+  }
+  if (target->GetNumberOfPoints() == 0)
+  {
+    itkExceptionMacro(<< "the target mesh has no points");
+  }
+  m_PoseRegistration->SetFixedMesh(target);
+  m_PoseRegistration->SetMovingMesh(source);
+  m_PoseRegistration->SetPoseType(m_InitialTransform);
+  m_PoseRegistration->SetRandomSeed(m_RandomSeed);
+  try
+  {
+    m_PoseRegistration->Update();
+  }
+  catch (const ExceptionObject & error)
+  {
+    itkExceptionMacro(<< "the pose stage failed: " << error.GetDescription());
+  }
+  // A moves the target into the source frame (forward: A maps target space to source space).
+  m_PoseTransformFilter->SetInput(target);
+  m_PoseTransformFilter->SetTransformInput(m_PoseRegistration->GetTransformOutput());
+  m_PoseTransformFilter->InverseOff();
+  m_PoseTransformFilter->Update();
+  typename MeshType::Pointer moved = m_PoseTransformFilter->GetOutput();
+  moved->DisconnectPipeline();
+  m_MatchingTarget = moved;
+}
+
+template <typename TMesh, typename TImage>
+void
+MeshShapeMatchingFilter<TMesh, TImage>::VoxelizeMeshes()
+{
+  const MeshType * source = this->GetSourceMesh();
+  const MeshType * target = this->GetMatchingTargetMesh();
   if (source->GetNumberOfPoints() == 0)
   {
     itkExceptionMacro(<< "the source mesh has no points");
@@ -287,7 +326,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::RegisterMeshes(const DecoratedTransformT
   -> const DecoratedTransformType *
 {
   ParRegistrationType * registration = m_ParRegistration;
-  registration->SetFixedMesh(this->GetTargetMesh());
+  registration->SetFixedMesh(this->GetMatchingTargetMesh());
   registration->SetMovingMesh(this->GetSourceMesh());
   registration->SetTemplateTransformInput(this->GetTemplateTransformInput());
   registration->SetBaseTransformInput(base);
@@ -313,7 +352,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::RegisterPoints(const DecoratedTransformT
   -> const DecoratedTransformType *
 {
   CPDRegistrationType * registration = m_CPDRegistration;
-  registration->SetFixedMesh(this->GetTargetMesh());
+  registration->SetFixedMesh(this->GetMatchingTargetMesh());
   registration->SetMovingMesh(this->GetSourceMesh());
   // GO's B-spline is the start: its grid is kept. The EM iterations are the refinement's own.
   registration->SetInitialTransformInput(base);
@@ -344,6 +383,11 @@ MeshShapeMatchingFilter<TMesh, TImage>::GenerateData()
   const bool refine = refineByPar || refineByCPD;
   auto       progress = ProgressAccumulator::New();
   progress->SetMiniPipelineFilter(this);
+  const bool posed = m_InitialTransform != InitialTransformEnum::None;
+  if (posed)
+  {
+    progress->RegisterInternalFilter(m_PoseRegistration, 0.05f);
+  }
   progress->RegisterInternalFilter(m_TargetVoxelizer, 0.04f);
   progress->RegisterInternalFilter(m_SourceVoxelizer, 0.04f);
   progress->RegisterInternalFilter(m_BandMaskVoxelizer, 0.01f);
@@ -366,8 +410,18 @@ MeshShapeMatchingFilter<TMesh, TImage>::GenerateData()
   }
   progress->RegisterInternalFilter(m_MeshTransformFilter, 0.05f);
 
-  // Voxelize (every method: the target image is also the grid on which T is scored).
+  // Pose: A maps target space to source space; the deformation stage matches the source to A(target).
   auto start = ClockType::now();
+  m_MatchingTarget = nullptr;
+  m_PoseTime = 0.0;
+  if (posed)
+  {
+    this->FindPose();
+    m_PoseTime = detail::SecondsSince(start);
+  }
+
+  // Voxelize (every method: the target image is also the grid on which T is scored).
+  start = ClockType::now();
   this->VoxelizeMeshes();
   m_VoxelizationTime = detail::SecondsSince(start);
 
@@ -399,6 +453,16 @@ MeshShapeMatchingFilter<TMesh, TImage>::GenerateData()
     }
   }
   m_RegistrationTime = detail::SecondsSince(start);
+  m_DeformationTransform = transform;
+  if (posed)
+  {
+    // T = B o A: a CompositeTransform applies the transform added last first. It only reads its parts.
+    auto composite = CompositeTransformType::New();
+    composite->AddTransform(const_cast<TransformType *>(transform->Get()));
+    composite->AddTransform(const_cast<TransformType *>(m_PoseRegistration->GetTransform()));
+    m_ComposedTransform->Set(composite);
+    transform = m_ComposedTransform;
+  }
   auto * transformOutput = static_cast<DecoratedTransformType *>(this->ProcessObject::GetOutput(1));
   transformOutput->Set(transform->Get());
 
@@ -420,6 +484,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::PrintSelf(std::ostream & os, Indent inde
 {
   Superclass::PrintSelf(os, indent);
   os << indent << "Method: " << m_Method << std::endl;
+  os << indent << "InitialTransform: " << m_InitialTransform << std::endl;
   os << indent << "Voxelization: " << m_Voxelization << std::endl;
   os << indent << "VoxelSize: " << m_VoxelSize << std::endl;
   os << indent << "BandWidthInVoxels: " << m_BandWidthInVoxels << std::endl;
@@ -439,9 +504,11 @@ MeshShapeMatchingFilter<TMesh, TImage>::PrintSelf(std::ostream & os, Indent inde
   os << indent << "TimeLimitReached: " << m_TimeLimitReached << std::endl;
   os << indent << "NumberOfMetricVoxels: " << m_NumberOfMetricVoxels << std::endl;
   os << indent << "NumberOfOpenBoundaryEdges: " << m_NumberOfOpenBoundaryEdges << std::endl;
+  os << indent << "PoseTime: " << m_PoseTime << std::endl;
   os << indent << "VoxelizationTime: " << m_VoxelizationTime << std::endl;
   os << indent << "RegistrationTime: " << m_RegistrationTime << std::endl;
   os << indent << "MeshTransformTime: " << m_MeshTransformTime << std::endl;
+  itkPrintSelfObjectMacro(PoseRegistration);
   itkPrintSelfObjectMacro(TargetVoxelizer);
   itkPrintSelfObjectMacro(SourceVoxelizer);
   itkPrintSelfObjectMacro(BandMaskVoxelizer);

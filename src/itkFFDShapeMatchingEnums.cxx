@@ -43,6 +43,15 @@ constexpr std::array<VoxelizationSpelling, 3> VoxelizationSpellings{
     { FFDShapeMatchingEnums::Voxelization::SignedDistance, "sdf" } }
 };
 
+using InitialTransformSpelling = std::pair<FFDShapeMatchingEnums::InitialTransform, const char *>;
+
+constexpr std::array<InitialTransformSpelling, 4> InitialTransformSpellings{
+  { { FFDShapeMatchingEnums::InitialTransform::None, "none" },
+    { FFDShapeMatchingEnums::InitialTransform::Rigid, "rigid" },
+    { FFDShapeMatchingEnums::InitialTransform::Similarity, "similarity" },
+    { FFDShapeMatchingEnums::InitialTransform::Affine, "affine" } }
+};
+
 // The spelling of \c value in \c spellings, or "invalid".
 template <typename TEnum, std::size_t N>
 std::string
@@ -99,6 +108,18 @@ bool
 FFDShapeMatchingEnums::VoxelizationFromString(const std::string & text, Voxelization & voxelization)
 {
   return ParseSpelling(VoxelizationSpellings, text, voxelization);
+}
+
+std::string
+FFDShapeMatchingEnums::InitialTransformToString(InitialTransform initialTransform)
+{
+  return SpellingOf(InitialTransformSpellings, initialTransform);
+}
+
+bool
+FFDShapeMatchingEnums::InitialTransformFromString(const std::string & text, InitialTransform & initialTransform)
+{
+  return ParseSpelling(InitialTransformSpellings, text, initialTransform);
 }
 
 std::ostream &
@@ -167,6 +188,25 @@ operator<<(std::ostream & out, const FFDShapeMatchingEnums::Voxelization value)
         return "itk::FFDShapeMatchingEnums::Voxelization::SignedDistance";
     }
     return "INVALID VALUE FOR itk::FFDShapeMatchingEnums::Voxelization";
+  }();
+}
+
+std::ostream &
+operator<<(std::ostream & out, const FFDShapeMatchingEnums::InitialTransform value)
+{
+  return out << [value] {
+    switch (value)
+    {
+      case FFDShapeMatchingEnums::InitialTransform::None:
+        return "itk::FFDShapeMatchingEnums::InitialTransform::None";
+      case FFDShapeMatchingEnums::InitialTransform::Rigid:
+        return "itk::FFDShapeMatchingEnums::InitialTransform::Rigid";
+      case FFDShapeMatchingEnums::InitialTransform::Similarity:
+        return "itk::FFDShapeMatchingEnums::InitialTransform::Similarity";
+      case FFDShapeMatchingEnums::InitialTransform::Affine:
+        return "itk::FFDShapeMatchingEnums::InitialTransform::Affine";
+    }
+    return "INVALID VALUE FOR itk::FFDShapeMatchingEnums::InitialTransform";
   }();
 }
 } // namespace itk

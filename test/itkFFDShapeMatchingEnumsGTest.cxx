@@ -84,3 +84,25 @@ TEST(FFDShapeMatchingEnums, PrintsMetricAndOptimizerNames)
             "itk::FFDShapeMatchingEnums::Optimizer::RegularStepGradientDescent "
             "INVALID VALUE FOR itk::FFDShapeMatchingEnums::ImageMetric");
 }
+
+TEST(FFDShapeMatchingEnums, InitialTransformSpellingRoundTrips)
+{
+  using InitialEnum = itk::FFDShapeMatchingEnums::InitialTransform;
+  for (const auto pose : { InitialEnum::None, InitialEnum::Rigid, InitialEnum::Similarity, InitialEnum::Affine })
+  {
+    InitialEnum       parsed = InitialEnum::None;
+    const std::string spelling = itk::FFDShapeMatchingEnums::InitialTransformToString(pose);
+    ASSERT_TRUE(itk::FFDShapeMatchingEnums::InitialTransformFromString(spelling, parsed)) << spelling;
+    EXPECT_EQ(parsed, pose);
+  }
+  InitialEnum parsed = InitialEnum::Rigid;
+  EXPECT_TRUE(itk::FFDShapeMatchingEnums::InitialTransformFromString("Similarity", parsed));
+  EXPECT_EQ(parsed, InitialEnum::Similarity);
+  EXPECT_FALSE(itk::FFDShapeMatchingEnums::InitialTransformFromString("moments", parsed));
+  EXPECT_EQ(parsed, InitialEnum::Similarity);
+  std::ostringstream stream;
+  stream << InitialEnum::Affine << ' ' << static_cast<InitialEnum>(9);
+  EXPECT_EQ(stream.str(),
+            "itk::FFDShapeMatchingEnums::InitialTransform::Affine "
+            "INVALID VALUE FOR itk::FFDShapeMatchingEnums::InitialTransform");
+}

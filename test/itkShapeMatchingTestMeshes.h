@@ -25,6 +25,7 @@
 #include "itkPointCorrespondenceErrorCalculator.h"
 #include "itkTriangleCell.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
@@ -152,6 +153,116 @@ MeanTrueError(const MeshType *                                                  
   calculator->SetCorrespondences(truth);
   calculator->Compute();
   return calculator->GetMeanError();
+}
+// A closed, lumpy, non-symmetric blob about 100 units across: a latitude-longitude sphere whose radius varies with
+// the direction by terms that no rotation or mirror maps onto themselves (bumps down to about 20 units across, so
+// that a part of it has a shape of its own), then stretched (axes 50, 36, 27) and moved
+// to (cx, cy, cz).
+inline MeshType::Pointer
+MakeLumpyShape(double cx, double cy, double cz, unsigned int rings = 40, unsigned int sectors = 80)
+{
+  auto       mesh = MeshType::New();
+  const auto place = [&](double theta, double phi) {
+    const double x = std::sin(theta) * std::cos(phi);
+    const double y = std::sin(theta) * std::sin(phi);
+    const double z = std::cos(theta);
+    const double r = 1.0 + 0.18 * x * y + 0.22 * std::max(0.0, x + 0.4 * z) * std::max(0.0, x + 0.4 * z) +
+                     0.12 * z * z * z - 0.1 * y * z + 0.08 * std::sin(3.0 * phi + 1.0) * std::sin(theta) +
+                     0.06 * std::sin(4.0 * theta) * std::sin(5.0 * phi + 0.5) +
+                     0.04 * std::sin(theta) * std::cos(7.0 * phi - 0.3 * theta);
+    MeshType::PointType p;
+    p[0] = cx + 50.0 * r * x;
+    p[1] = cy + 36.0 * r * y;
+    p[2] = cz + 27.0 * r * z;
+    return p;
+  };
+  mesh->SetPoint(0, place(0.0, 0.0));
+  for (unsigned int i = 1; i < rings; ++i)
+  {
+    for (unsigned int j = 0; j < sectors; ++j)
+    {
+      mesh->SetPoint(1 + (i - 1) * sectors + j, place(itk::Math::pi * i / rings, 2.0 * itk::Math::pi * j / sectors));
+    }
+  }
+  const itk::IdentifierType south = 1 + (rings - 1) * sectors;
+  mesh->SetPoint(south, place(itk::Math::pi, 0.0));
+  const auto id = [sectors](unsigned int i, unsigned int j) { return 1 + (i - 1) * sectors + j % sectors; };
+  for (unsigned int j = 0; j < sectors; ++j)
+  {
+    AddTriangle(mesh, 0, id(1, j), id(1, j + 1));
+    AddTriangle(mesh, south, id(rings - 1, j + 1), id(rings - 1, j));
+    for (unsigned int i = 1; i + 1 < rings; ++i)
+    {
+      AddTriangle(mesh, id(i, j), id(i + 1, j), id(i + 1, j + 1));
+      AddTriangle(mesh, id(i, j), id(i + 1, j + 1), id(i, j + 1));
+    }
+  }
+  return mesh;
+}
+
+// The benchmark's target region: the triangles of \c source with all three vertices in the central box covering
+// \c fraction of each axis of its bounding box (an open, possibly disconnected part), vertex ids renumbered; the
+// ids of the same point in source and target go to \c truth.
+inline MeshType::Pointer
+MakeCentralBoxRegion(const MeshType *                                                                 source,
+                     double                                                                           fraction,
+                     itk::PointCorrespondenceErrorCalculator<MeshType>::CorrespondenceContainerType & truth)
+{
+  const auto * box = source->GetBoundingBox();
+  const auto   inside = [&](const MeshType::PointType & p) {
+    for (unsigned int d = 0; d < 3; ++d)
+    {
+      const double centre = 0.5 * (box->GetMinimum()[d] + box->GetMaximum()[d]);
+      const double half = 0.5 * fraction * (box->GetMaximum()[d] - box->GetMinimum()[d]);
+      if (std::abs(p[d] - centre) > half)
+      {
+        return false;
+      }
+    }
+    return true;
+  };
+  auto                                               target = MeshType::New();
+  std::map<itk::IdentifierType, itk::IdentifierType> newId;
+  for (auto it = source->GetCells()->Begin(); it != source->GetCells()->End(); ++it)
+  {
+    const auto * ids = it.Value()->GetPointIds();
+    if (!inside(source->GetPoint(ids[0])) || !inside(source->GetPoint(ids[1])) || !inside(source->GetPoint(ids[2])))
+    {
+      continue;
+    }
+    itk::IdentifierType mapped[3];
+    for (unsigned int k = 0; k < 3; ++k)
+    {
+      auto found = newId.find(ids[k]);
+      if (found == newId.end())
+      {
+        found = newId.emplace(ids[k], newId.size()).first;
+        target->SetPoint(found->second, source->GetPoint(ids[k]));
+        truth.emplace_back(ids[k], found->second);
+      }
+      mapped[k] = found->second;
+    }
+    AddTriangle(target, mapped[0], mapped[1], mapped[2]);
+  }
+  return target;
+}
+
+// A copy of \c mesh (points and triangles) with every point mapped by \c transform.
+template <typename TTransform>
+inline MeshType::Pointer
+TransformedCopy(const MeshType * mesh, const TTransform * transform)
+{
+  auto copy = MeshType::New();
+  for (auto it = mesh->GetPoints()->Begin(); it != mesh->GetPoints()->End(); ++it)
+  {
+    copy->SetPoint(it.Index(), transform->TransformPoint(it.Value()));
+  }
+  for (auto it = mesh->GetCells()->Begin(); it != mesh->GetCells()->End(); ++it)
+  {
+    const auto * ids = it.Value()->GetPointIds();
+    AddTriangle(copy, ids[0], ids[1], ids[2]);
+  }
+  return copy;
 }
 } // namespace ShapeMatchingTestMeshes
 

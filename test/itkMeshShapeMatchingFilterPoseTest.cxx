@@ -1,0 +1,142 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+
+// MeshShapeMatchingFilter with a pose stage: a deformed part of a lumpy blob, posed by a known similarity far from
+// the source (not overlapping), is matched as well as the same part in place (the aligned case), the output
+// transform is T = B o A and maps the posed target onto the source; without a pose stage the filter refuses it.
+
+#include "itkMeshShapeMatchingFilter.h"
+#include "itkShapeMatchingTestMeshes.h"
+#include "itkSimilarity3DTransform.h"
+#include "itkTestingMacros.h"
+
+#include <iostream>
+
+namespace
+{
+using namespace ShapeMatchingTestMeshes;
+using FilterType = itk::MeshShapeMatchingFilter<MeshType>;
+using CorrespondenceContainerType = itk::PointCorrespondenceErrorCalculator<MeshType>::CorrespondenceContainerType;
+using InitialEnum = itk::FFDShapeMatchingEnums::InitialTransform;
+
+FilterType::Pointer
+NewFilter(const MeshType * source, const MeshType * target, InitialEnum initial)
+{
+  auto filter = FilterType::New();
+  filter->SetSourceMesh(source);
+  filter->SetTargetMesh(target);
+  filter->SetMethod(itk::FFDShapeMatchingEnums::Method::GO);
+  filter->SetInitialTransform(initial);
+  filter->SetVoxelSize(1.5);
+  filter->SetNumberOfControlPointsPerAxis(8);
+  filter->SetNumberOfLevels(1);
+  return filter;
+}
+
+// Mean |T(y) - x| over the correspondences (x a source vertex, y its target vertex): T maps target to source.
+double
+TransformError(const itk::Transform<double, 3, 3> * transform,
+               const MeshType *                     source,
+               const MeshType *                     target,
+               const CorrespondenceContainerType &  truth)
+{
+  double sum = 0.0;
+  for (const auto & correspondence : truth)
+  {
+    sum += transform->TransformPoint(target->GetPoint(correspondence.second))
+             .EuclideanDistanceTo(source->GetPoint(correspondence.first));
+  }
+  return sum / static_cast<double>(truth.size());
+}
+} // namespace
+
+int
+itkMeshShapeMatchingFilterPoseTest(int, char *[])
+{
+  const auto                  source = MakeLumpyShape(0.0, 0.0, 0.0, 30, 60);
+  CorrespondenceContainerType truth;
+  const auto                  target = MakeDeformedPatch(source, -8.0, truth);
+
+  // The aligned case.
+  auto aligned = NewFilter(source, target, InitialEnum::None);
+  aligned->Update();
+  const double alignedError = MeanTrueError(aligned->GetOutput(), target, truth);
+
+  // The posed case: rotated 150 degrees about an oblique axis, scaled by 1.25, moved 250 units away.
+  auto                   pose = itk::Similarity3DTransform<double>::New();
+  itk::Vector<double, 3> axis;
+  axis[0] = 0.4;
+  axis[1] = -0.8;
+  axis[2] = 0.45;
+  axis.Normalize();
+  pose->SetRotation(axis, 150.0 * itk::Math::pi / 180.0);
+  pose->SetScale(1.25);
+  itk::Vector<double, 3> shift;
+  shift[0] = 250.0;
+  shift[1] = -40.0;
+  shift[2] = 30.0;
+  pose->SetTranslation(shift);
+  const auto posedTarget = TransformedCopy(target, pose.GetPointer());
+
+  // Without a pose stage: refused, the meshes are apart.
+  auto unposed = NewFilter(source, posedTarget, InitialEnum::None);
+  ITK_TRY_EXPECT_EXCEPTION(unposed->Update());
+
+  auto posed = NewFilter(source, posedTarget, InitialEnum::Similarity);
+  ITK_TEST_SET_GET_VALUE(InitialEnum::Similarity, posed->GetInitialTransform());
+  ITK_TRY_EXPECT_NO_EXCEPTION(posed->Update());
+  const double startError = MeanTrueError(source, posedTarget, truth);
+  const double posedError = MeanTrueError(posed->GetOutput(), posedTarget, truth);
+  const auto * composite = dynamic_cast<const FilterType::CompositeTransformType *>(posed->GetTransform());
+  const double transformError = TransformError(posed->GetTransform(), source, posedTarget, truth);
+  const double alignedTransformError = TransformError(aligned->GetTransform(), source, target, truth);
+  const auto * poseStage = posed->GetModifiablePoseRegistration();
+  std::cout << "aligned: true error " << alignedError << " (T: " << alignedTransformError << ")" << std::endl;
+  std::cout << "posed: start " << startError << ", true error " << posedError << " (aligned x scale "
+            << 1.25 * alignedError << "; T: " << transformError << "); pose " << poseStage->GetRotationAngle()
+            << " deg, scale " << poseStage->GetScale() << " in " << posed->GetPoseTime() << " s; "
+            << posed->GetModifiableMeshTransformFilter()->GetNumberOfNonConvergedPoints() << " non-converged"
+            << std::endl;
+  int result = EXIT_SUCCESS;
+  if (composite == nullptr || composite->GetNumberOfTransforms() != 2 ||
+      composite->GetNthTransformConstPointer(1) != poseStage->GetTransform() ||
+      composite->GetNthTransformConstPointer(0) != posed->GetDeformationTransformOutput()->Get())
+  {
+    std::cerr << "the output transform is not the composite B o A" << std::endl;
+    result = EXIT_FAILURE;
+  }
+  if (std::abs(poseStage->GetRotationAngle() - 150.0) > 3.0 || std::abs(poseStage->GetScale() * 1.25 - 1.0) > 0.02)
+  {
+    std::cerr << "the pose stage did not find the pose" << std::endl;
+    result = EXIT_FAILURE;
+  }
+  // The goal of the pose stage: the aligned case's accuracy, within 1.25 x (scale x) its true error.
+  if (!(posedError < 1.25 * 1.25 * alignedError + 0.05) || !(transformError < 1.25 * alignedTransformError + 0.05) ||
+      !(posedError < 0.1 * startError))
+  {
+    std::cerr << "the posed case is not matched as well as the aligned one" << std::endl;
+    result = EXIT_FAILURE;
+  }
+  if (posed->GetMatchingTargetMesh() == posedTarget.GetPointer() ||
+      aligned->GetMatchingTargetMesh() != target.GetPointer())
+  {
+    std::cerr << "the deformation stage's target is not the target moved by the pose" << std::endl;
+    result = EXIT_FAILURE;
+  }
+  return result;
+}
