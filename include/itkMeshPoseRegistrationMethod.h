@@ -61,8 +61,9 @@ namespace itk
  *
  * Near-symmetric shapes: two poses related by a symmetry of the shape score alike. The search keeps the best
  * score; GetRunnerUpScore() and GetRunnerUpRotationDistance() give the best refined start at least 10 degrees
- * away from the winner (scored after its ICP refinement on the candidate samples), so that a caller can see when the pose is ambiguous (a runner-up score close to the
- * winner's). A pose differing only by an exact symmetry of the target part cannot be resolved by any method.
+ * away from the winner (scored after its ICP refinement on the candidate samples), so that a caller can see when the
+ * pose is ambiguous (a runner-up score close to the winner's). A pose differing only by an exact symmetry of the target
+ * part cannot be resolved by any method.
  *
  * Output: GetTransformOutput(), a decorated VersorRigid3DTransform (Rigid), Similarity3DTransform (Similarity) or
  * AffineTransform (Affine), centred at the target centroid, ready for a CompositeTransform or a transform file. The
