@@ -592,7 +592,9 @@ itkBSplineMRFImageRegistrationMethodTest(int argc, char * argv[])
     ITK_TEST_EXPECT_TRUE(finite);
     ITK_TEST_EXPECT_EQUAL(limited->GetCoefficientImages()[0]->GetLargestPossibleRegion().GetSize()[0],
                           registration->GetMeshSizeAtLevel(1) + 3);
-    ITK_TEST_EXPECT_TRUE(EnergiesNeverIncrease(registration));
+    // On a loaded machine the limit can pass while the first iteration's unary costs are computed: that
+    // iteration is dropped and the transform stays the identity.
+    ITK_TEST_EXPECT_TRUE(registration->GetEnergyValues().empty() || EnergiesNeverIncrease(registration));
     ITK_TEST_EXPECT_TRUE(registration->GetMinimumJacobianDeterminant() > 0.0);
     ITK_TEST_EXPECT_TRUE(after <= before);
   }

@@ -48,21 +48,6 @@ NewFilter(const MeshType * source, const MeshType * target, InitialEnum initial)
   return filter;
 }
 
-// Mean |T(y) - x| over the correspondences (x a source vertex, y its target vertex): T maps target to source.
-double
-TransformError(const itk::Transform<double, 3, 3> * transform,
-               const MeshType *                     source,
-               const MeshType *                     target,
-               const CorrespondenceContainerType &  truth)
-{
-  double sum = 0.0;
-  for (const auto & correspondence : truth)
-  {
-    sum += transform->TransformPoint(target->GetPoint(correspondence.second))
-             .EuclideanDistanceTo(source->GetPoint(correspondence.first));
-  }
-  return sum / static_cast<double>(truth.size());
-}
 } // namespace
 
 int
@@ -103,8 +88,8 @@ itkMeshShapeMatchingFilterPoseTest(int, char *[])
   const double startError = MeanTrueError(source, posedTarget, truth);
   const double posedError = MeanTrueError(posed->GetOutput(), posedTarget, truth);
   const auto * composite = dynamic_cast<const FilterType::CompositeTransformType *>(posed->GetTransform());
-  const double transformError = TransformError(posed->GetTransform(), source, posedTarget, truth);
-  const double alignedTransformError = TransformError(aligned->GetTransform(), source, target, truth);
+  const double transformError = TransformTrueError(posed->GetTransform(), source, posedTarget, truth);
+  const double alignedTransformError = TransformTrueError(aligned->GetTransform(), source, target, truth);
   const auto * poseStage = posed->GetModifiablePoseRegistration();
   std::cout << "aligned: true error " << alignedError << " (T: " << alignedTransformError << ")" << std::endl;
   std::cout << "posed: start " << startError << ", true error " << posedError << " (aligned x scale "

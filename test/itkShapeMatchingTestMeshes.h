@@ -23,6 +23,7 @@
 #include "itkMesh.h"
 #include "itkMeshSurfaceDistanceCalculator.h"
 #include "itkPointCorrespondenceErrorCalculator.h"
+#include "itkTransform.h"
 #include "itkTriangleCell.h"
 
 #include <algorithm>
@@ -154,6 +155,22 @@ MeanTrueError(const MeshType *                                                  
   calculator->Compute();
   return calculator->GetMeanError();
 }
+// Mean |T(y) - x| over the correspondences (x a source vertex, y its target vertex): the true error of a transform
+// T that maps target points to source points, the direction every registration method of the module returns.
+inline double
+TransformTrueError(const itk::Transform<double, 3, 3> *                                                   transform,
+                   const MeshType *                                                                       source,
+                   const MeshType *                                                                       target,
+                   const itk::PointCorrespondenceErrorCalculator<MeshType>::CorrespondenceContainerType & truth)
+{
+  double sum = 0.0;
+  for (const auto & pair : truth)
+  {
+    sum += transform->TransformPoint(target->GetPoint(pair.second)).EuclideanDistanceTo(source->GetPoint(pair.first));
+  }
+  return sum / static_cast<double>(truth.size());
+}
+
 // A closed, lumpy, non-symmetric blob about 100 units across: a latitude-longitude sphere whose radius varies with
 // the direction by terms that no rotation or mirror maps onto themselves (bumps down to about 20 units across, so
 // that a part of it has a shape of its own), then stretched (axes 50, 36, 27) and moved
