@@ -11,6 +11,7 @@ import argparse
 import json
 import math
 import os
+import random
 import subprocess
 import sys
 
@@ -47,6 +48,8 @@ def rotation(axis, degrees):
 
 
 def pose_mesh(source_path, output_path, axis, degrees, scale, shift):
+    """Writes the mesh posed by x -> c + shift + scale R (x - c), c its vertex centroid, R the rotation by degrees
+    about axis; returns c."""
     vertices, nf, rest = read_off(source_path)
     centre = [sum(v[d] for v in vertices) / len(vertices) for d in range(3)]
     r = rotation(axis, degrees)
@@ -55,6 +58,34 @@ def pose_mesh(source_path, output_path, axis, degrees, scale, shift):
         q = [v[d] - centre[d] for d in range(3)]
         posed.append(tuple(centre[a] + shift[a] + scale * sum(r[a][b] * q[b] for b in range(3)) for a in range(3)))
     write_off(output_path, posed, nf, rest)
+    return centre
+
+
+def bounding_box_diagonal(path):
+    vertices = read_off(path)[0]
+    return math.sqrt(sum((max(v[d] for v in vertices) - min(v[d] for v in vertices)) ** 2 for d in range(3)))
+
+
+def unit_vector(generator):
+    """A direction uniform on the sphere."""
+    z = generator.uniform(-1.0, 1.0)
+    phi = generator.uniform(0.0, 2.0 * math.pi)
+    r = math.sqrt(max(0.0, 1.0 - z * z))
+    return [r * math.cos(phi), r * math.sin(phi), z]
+
+
+def random_pose(seed, diagonal):
+    """The benchmark's posed regime: a similarity drawn from seed (random.Random(seed)): rotation angle uniform in
+    [0, 180] degrees about a uniformly random axis, isotropic scale log-uniform in [0.5, 2], shift of a length
+    uniform in [0, diagonal] in a uniformly random direction."""
+    generator = random.Random(seed)
+    angle = generator.uniform(0.0, 180.0)
+    axis = unit_vector(generator)
+    scale = math.exp(generator.uniform(math.log(0.5), math.log(2.0)))
+    direction = unit_vector(generator)
+    length = generator.uniform(0.0, diagonal)
+    return {"rotation_angle_degrees": angle, "rotation_axis": axis, "scale": scale,
+            "shift": [length * d for d in direction], "shift_length": length}
 
 
 def run(command, log):

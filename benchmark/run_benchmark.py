@@ -24,12 +24,16 @@ import sys
 import tarfile
 import time
 
+import posed_cases
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 CGAL_DATA = "/usr/share/doc/libcgal-dev/data.tar.gz"
 ALL_MESHES = ["fandisk_large", "bunny00", "diplodocus", "cheese"]
-ALL_REGIMES = ["paper", "smooth", "short"]
+ALL_REGIMES = ["paper", "smooth", "short", "posed"]
 # "short" (the smooth regime's noise smoothed over half the length) is a second noise model, run on request.
+# "posed" is the smooth regime's case (same source, target and truth) with the target posed by a similarity drawn
+# from the seed (posed_cases.random_pose), run on request.
 DEFAULT_REGIMES = ["paper", "smooth"]
 ALL_METHODS = ["go", "mrf", "par", "go+par", "mrf+par", "go+cpd"]
 IMAGE_PEERS = ["elastix", "plastimatch-mi", "plastimatch-mse"]
@@ -41,6 +45,13 @@ ALL_PEERS = IMAGE_PEERS + list(POINT_PEERS)
 # beta 1.2, lambda 50; similarity + non-rigid) with its variational-Bayes acceleration (Nystrom + KD tree, the
 # values of its -A option); FFD_BCPD_OPTIONS replaces them.
 BCPD_OPTIONS = os.environ.get("FFD_BCPD_OPTIONS", "-w0.1 -b1.2 -l50 -g0.1 -ux -Tsrn -K70 -J300 -p -d7 -e0.15 -f0.2")
+# BCPD's settings for shapes far apart: its README's "gamma around 2 to 10 if your target point set is largely
+# rotated", each point set normalized on its own (-ue, its default); the rest as above. FFD_BCPD_POSED_OPTIONS
+# replaces them.
+BCPD_POSED_OPTIONS = os.environ.get("FFD_BCPD_POSED_OPTIONS",
+                                    "-w0.1 -b1.2 -l50 -g3 -ue -Tsrn -K70 -J300 -p -d7 -e0.15 -f0.2")
+# The pose stage of ffd-match's methods per regime (--initial-transform); regimes not named here use none.
+POSE_STAGE = {"posed": "similarity"}
 PACKAGES = ["elastix", "plastimatch", "libcgal-demo", "gnuplot-nox", "time"]
 SMOKE_MESH = "smoke-torus"
 
@@ -286,6 +297,44 @@ ELASTIX_PARAMETERS = """// B-spline registration of the unsigned distance images
 (RandomSeed {seed})
 """
 
+# The affine stage that precedes the B-spline stage in the posed regime (elastix's usual affine + B-spline
+# pipeline): moving image's centre onto the fixed image's centre to start, then an affine transform.
+ELASTIX_AFFINE_PARAMETERS = """// Affine registration of the unsigned distance images, before the B-spline stage (posed regime).
+(FixedInternalImagePixelType "float")
+(MovingInternalImagePixelType "float")
+(FixedImageDimension 3)
+(MovingImageDimension 3)
+(UseDirectionCosines "true")
+(Registration "MultiResolutionRegistration")
+(Interpolator "BSplineInterpolator")
+(ResampleInterpolator "FinalBSplineInterpolator")
+(Resampler "DefaultResampler")
+(FixedImagePyramid "FixedSmoothingImagePyramid")
+(MovingImagePyramid "MovingSmoothingImagePyramid")
+(Optimizer "AdaptiveStochasticGradientDescent")
+(Transform "AffineTransform")
+(Metric "AdvancedMattesMutualInformation")
+(NumberOfHistogramBins 32)
+(AutomaticScalesEstimation "true")
+(AutomaticTransformInitialization "true")
+(AutomaticTransformInitializationMethod "GeometricalCenter")
+(HowToCombineTransforms "Compose")
+(NumberOfResolutions {resolutions})
+(MaximumNumberOfIterations {iterations})
+(ImageSampler "RandomCoordinate")
+(NumberOfSpatialSamples {samples})
+(NewSamplesEveryIteration "true")
+(UseRandomSampleRegion "false")
+(ErodeMask "false")
+(BSplineInterpolationOrder 1)
+(FinalBSplineInterpolationOrder 3)
+(AutomaticParameterEstimation "true")
+(DefaultPixelValue 0)
+(WriteResultImage "false")
+(ResultImageFormat "mha")
+(RandomSeed {seed})
+"""
+
 PLASTIMATCH_COMMAND = """# B-spline registration of the unsigned distance images of the meshes (benchmark/README.md).
 [GLOBAL]
 fixed={fixed}
@@ -317,7 +366,8 @@ def peer_images(case, work, tools, voxel_size, threads, smoke):
     """Voxelizes both meshes with ffd-voxelize on one common grid, the target's bounds + 8 voxels (as ffd-match's
     fixed image, so a peer's B-spline grid at the module's spacing has the module's number of control points):
     unsigned distance (sdf mode, band 5 voxels) of each mesh, and a band mask around the target surface that
-    restricts the metric's samples."""
+    restricts the metric's samples. In the posed regime the source is far from the target's grid: it gets a grid of
+    its own (its bounds + 8 voxels, same voxel size)."""
     folder = os.path.join(work, "images")
     os.makedirs(folder, exist_ok=True)
     fixed = os.path.join(folder, "target.mha")
@@ -330,8 +380,10 @@ def peer_images(case, work, tools, voxel_size, threads, smoke):
                                           "--voxel-size", "%g" % voxel_size, "--margin", "%g" % (8 * voxel_size),
                                           "--band-width", band] + common, os.path.join(folder, "voxelize-target.log")))
     if stages[-1].ok():
+        geometry = ["--reference", fixed] if case["regime"] != "posed" else \
+            ["--voxel-size", "%g" % voxel_size, "--margin", "%g" % (8 * voxel_size)]
         stages.append(run("voxelize-source", [tools["ffd-voxelize"], case["source"], moving, "--mode", "sdf",
-                                              "--unsigned", "--reference", fixed, "--band-width", band] + common,
+                                              "--unsigned", "--band-width", band] + geometry + common,
                           os.path.join(folder, "voxelize-source.log")))
     if stages[-1].ok():
         stages.append(run("voxelize-mask", [tools["ffd-voxelize"], case["target"], mask, "--mode", "band",
@@ -349,12 +401,20 @@ def run_elastix(case, images, folder, tools, options):
             spacing=" ".join("%.4f" % s for s in spacing),
             schedule=" ".join(" ".join([str(2 ** (resolutions - 1 - level))] * 3) for level in range(resolutions)),
             resolutions=resolutions, iterations=200 if options.smoke else 500, samples=2048, seed=case["seed"] + 1))
-    stages = [run("register", ["elastix", "-f", images["fixed"], "-m", images["moving"], "-fMask", images["mask"],
-                               "-p", parameters, "-out", folder, "-threads", str(options.threads)],
-                  os.path.join(folder, "register.log"))]
+    maps = ["-p", parameters]
+    if case["regime"] == "posed":
+        affine = os.path.join(folder, "elastix-affine.txt")
+        with open(affine, "w") as out:
+            out.write(ELASTIX_AFFINE_PARAMETERS.format(resolutions=resolutions, iterations=200 if options.smoke else 500,
+                                                       samples=2048, seed=case["seed"] + 1))
+        maps = ["-p", affine] + maps
+    stages = [run("register", ["elastix", "-f", images["fixed"], "-m", images["moving"], "-fMask", images["mask"]]
+                  + maps + ["-out", folder, "-threads", str(options.threads)], os.path.join(folder, "register.log"))]
     field = os.path.join(folder, "deformationField.mha")
     if stages[-1].ok():
-        stages.append(run("field", ["transformix", "-def", "all", "-tp", os.path.join(folder, "TransformParameters.0.txt"),
+        # The last map's parameters name the earlier maps' as their initial transform: the field is the whole.
+        last = os.path.join(folder, "TransformParameters.%d.txt" % (len(maps) // 2 - 1))
+        stages.append(run("field", ["transformix", "-def", "all", "-tp", last,
                                     "-out", folder, "-threads", str(options.threads)], os.path.join(folder, "field.log")))
         if stages[-1].ok() and not os.path.exists(field):
             alternatives = [name for name in os.listdir(folder) if name.startswith("deformationField.")
@@ -425,6 +485,13 @@ def read_points(path, count, what):
     return [tuple(float(v) for v in row[:3]) for row in rows]
 
 
+def bcpd_options(regime, options):
+    """BCPD's options: for shapes far apart in the posed regime, for roughly aligned shapes otherwise."""
+    if regime == "posed":
+        return getattr(options, "bcpd_posed_options", BCPD_POSED_OPTIONS)
+    return getattr(options, "bcpd_options", BCPD_OPTIONS)
+
+
 def run_point_peer(case, peer, tools, options):
     folder = os.path.join(case["folder"], "peers", peer)
     os.makedirs(folder, exist_ok=True)
@@ -453,7 +520,7 @@ def run_point_peer(case, peer, tools, options):
         output = prefix + "y.txt"
         # X = target (fixed), Y = source (moving): BCPD moves Y onto X and writes the moved Y in Y's order.
         command = [program, "-x", x_path, "-y", y_path, "-o", prefix, "-r", str(case["seed"] + 1)] + \
-            BCPD_OPTIONS.split()
+            bcpd_options(case["regime"], options).split()
     else:
         stages.append(Stage("convert", time.monotonic() - start, 0.0, 0, "", time.monotonic() - start))
         output = os.path.join(folder, "nicp-output.off")
@@ -497,15 +564,42 @@ def make_case(mesh_name, mesh_path, regime, seed, work, tools, options):
     truth = os.path.join(folder, "truth")
     os.makedirs(inputs, exist_ok=True)
     os.makedirs(truth, exist_ok=True)
+    # The posed regime's case is the smooth regime's case of the same mesh and seed, its target then posed.
+    generated = "smooth" if regime == "posed" else regime
     stage = run("case", [tools["ffd-benchmark-tool"], "case", "--mesh", mesh_path, "--out-dir", inputs, "--truth-dir",
-                         truth, "--regime", regime, "--seed", str(seed), "--fraction", "%g" % options.fraction,
+                         truth, "--regime", generated, "--seed", str(seed), "--fraction", "%g" % options.fraction,
                          "--grid", str(options.grid)], os.path.join(folder, "case.log"))
     if not stage.ok():
         raise RuntimeError("case generation failed for %s %s %d: %s" % (mesh_name, regime, seed, stage.reason()))
-    return {"mesh": mesh_name, "regime": regime, "seed": seed, "folder": folder,
+    case = {"mesh": mesh_name, "regime": regime, "seed": seed, "folder": folder,
             "source": os.path.join(inputs, "source.off"), "target": os.path.join(inputs, "target.off"),
             "truth": os.path.join(truth, "truth.txt"), "true_transform": os.path.join(truth, "T_true.tfm"),
             "description": read_json(os.path.join(truth, "case.json"))}
+    if regime == "posed":
+        case["pose"] = pose_target(case, truth)
+        case["description"] = dict(case["description"] or {}, regime="posed", generated_as="smooth",
+                                   pose=case["pose"])
+        with open(os.path.join(truth, "case.json"), "w") as out:
+            json.dump(case["description"], out, indent=1)
+    return case
+
+
+def pose_target(case, truth):
+    """Poses the case's target in place by the similarity drawn from its seed, about the target's centroid: the
+    aligned target is kept in the truth folder (no method sees it), the truth's correspondences stay valid, and
+    true errors are in the posed target's units (the aligned errors times the scale). T_true stays the aligned
+    case's noise (the Par methods' templates)."""
+    aligned = os.path.join(truth, "target-aligned.off")
+    os.replace(case["target"], aligned)
+    diagonal = posed_cases.bounding_box_diagonal(aligned)
+    pose = posed_cases.random_pose(case["seed"], diagonal)
+    pose["centre"] = posed_cases.pose_mesh(aligned, case["target"], pose["rotation_axis"],
+                                           pose["rotation_angle_degrees"], pose["scale"], pose["shift"])
+    pose["target_diagonal"] = diagonal
+    pose["direction"] = "aligned target to posed target: x -> centre + shift + scale R (x - centre)"
+    with open(os.path.join(truth, "pose.json"), "w") as out:
+        json.dump(pose, out, indent=1)
+    return pose
 
 
 def score(case, deformed, folder, tools, extra):
@@ -522,6 +616,8 @@ def result_record(case, name, kind, stages, scores, status, reason=None, extra=N
               "peak_mb": max([stage.peak_mb for stage in stages if stage.name != "score"] or [0.0]),
               "cpu_seconds_total": sum(stage.cpu_seconds or 0.0 for stage in stages if stage.name != "score"),
               "scores": scores}
+    if case.get("pose"):
+        record["pose"] = case["pose"]  # the drawn pose of a posed case
     if extra:
         record.update(extra)
     return record
@@ -537,6 +633,8 @@ def run_method(case, method, tools, options):
                "--output", deformed, "--transform-out", transform, "--report", report, "--grid", str(options.grid),
                "--voxel-size", "%g" % options.voxel_size, "--threads", str(options.threads),
                "--seed", str(case["seed"] + 1)]
+    if case["regime"] in POSE_STAGE:
+        command += ["--initial-transform", POSE_STAGE[case["regime"]]]
     if "par" in method:
         # The paper's protocol: the true noise directions per control point, magnitudes unknown.
         command += ["--templates", case["true_transform"], "--template-split", "control-point"]
@@ -554,6 +652,8 @@ def run_method(case, method, tools, options):
         scores["jacobian_from"] = "ffd-match report"
     seconds = report_data.get("seconds", {})
     extra = {"register_seconds": seconds.get("register"), "stage_seconds": seconds}
+    if report_data.get("pose"):
+        extra["pose_found"] = report_data["pose"]
     if scores is None:
         return result_record(case, method, "method", [stage, score_stage], None, "failed", score_stage.reason(), extra)
     return result_record(case, method, "method", [stage, score_stage], scores, "ok", None, extra)
@@ -966,6 +1066,8 @@ def parse_arguments():
         parser.error("--seeds >= 1, --grid >= 4 and --voxel-size > 0 are required")
     options.seed_list = ", ".join(str(options.first_seed + i) for i in range(options.seeds))
     options.bcpd_options = BCPD_OPTIONS
+    options.bcpd_posed_options = BCPD_POSED_OPTIONS
+    options.pose_stage = POSE_STAGE
     options.point_peer_programs = {peer: os.environ.get(variable) or None for peer, variable in POINT_PEERS.items()}
     return options
 
@@ -988,10 +1090,15 @@ def tables_only(options):
                 setattr(options, key, data["options"][key])
             options.note = options.note or data["options"].get("note", "")
             options.bcpd_options = data["options"].get("bcpd_options", BCPD_OPTIONS)
+            options.bcpd_posed_options = data["options"].get("bcpd_posed_options", BCPD_POSED_OPTIONS)
+            options.pose_stage = data["options"].get("pose_stage", POSE_STAGE)
             options.point_peer_programs = {}
         else:
             for key in ("meshes", "regimes", "methods", "peers"):
                 getattr(options, key).extend(v for v in data["options"][key] if v not in getattr(options, key))
+            if "posed" in data["options"]["regimes"]:
+                options.bcpd_posed_options = data["options"].get("bcpd_posed_options", options.bcpd_posed_options)
+                options.pose_stage = data["options"].get("pose_stage", options.pose_stage)
         # The point-set peers' programs of the runs that had them.
         for peer, program in (data["options"].get("point_peer_programs") or {}).items():
             if program and not options.point_peer_programs.get(peer):
