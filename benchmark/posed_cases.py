@@ -61,6 +61,17 @@ def pose_mesh(source_path, output_path, axis, degrees, scale, shift):
     return centre
 
 
+def pose_error(drawn, found):
+    """The error of a pose found by ffd-match (its report's "pose" block, target to source) against the drawn pose
+    (aligned target to posed target, random_pose): the rotation angle (degrees) of R_found R_drawn, which is the
+    identity when the found rotation undoes the drawn one, and the relative error of scale_found x scale_drawn."""
+    a = rotation(found["rotation_axis"], found["rotation_angle_degrees"])
+    b = rotation(drawn["rotation_axis"], drawn["rotation_angle_degrees"])
+    trace = sum(a[i][k] * b[k][i] for i in range(3) for k in range(3))
+    angle = math.degrees(math.acos(max(-1.0, min(1.0, 0.5 * (trace - 1.0)))))
+    return angle, found["scale"] * drawn["scale"] - 1.0
+
+
 def bounding_box_diagonal(path):
     vertices = read_off(path)[0]
     return math.sqrt(sum((max(v[d] for v in vertices) - min(v[d] for v in vertices)) ** 2 for d in range(3)))

@@ -54,6 +54,9 @@ BCPD_POSED_OPTIONS = os.environ.get("FFD_BCPD_POSED_OPTIONS",
 POSE_STAGE = {"posed": "similarity"}
 PACKAGES = ["elastix", "plastimatch", "libcgal-demo", "gnuplot-nox", "time"]
 SMOKE_MESH = "smoke-torus"
+# The posed smoke case's mesh: the smoke torus with a one-sided lobe, so that no rotation maps it onto itself (the
+# smoke torus has a 3-fold axis and in-plane half-turn symmetries: a pose is not defined on it).
+SMOKE_POSED_MESH = "smoke-lobed-torus"
 
 
 def log(message):
@@ -95,7 +98,7 @@ def build_project(build_dir, install):
 def extract_meshes(names, folder):
     os.makedirs(folder, exist_ok=True)
     paths = {}
-    wanted = {"data/meshes/%s.off" % name: name for name in names if name != SMOKE_MESH}
+    wanted = {"data/meshes/%s.off" % name: name for name in names if name not in (SMOKE_MESH, SMOKE_POSED_MESH)}
     if wanted:
         if not os.path.exists(CGAL_DATA):
             raise SystemExit("run_benchmark: %s is missing (Debian package libcgal-demo)" % CGAL_DATA)
@@ -112,17 +115,27 @@ def extract_meshes(names, folder):
                 raise SystemExit("run_benchmark: %s.off is not in %s" % (name, CGAL_DATA))
     if SMOKE_MESH in names:
         paths[SMOKE_MESH] = write_torus(os.path.join(folder, SMOKE_MESH + ".off"))
+    if SMOKE_POSED_MESH in names:
+        paths[SMOKE_POSED_MESH] = write_torus(os.path.join(folder, SMOKE_POSED_MESH + ".off"), lobe=0.35)
     return paths
 
 
-def write_torus(path, major=30.0, minor=12.0, segments=48, rings=24):
-    """A bumpy torus (2,304 triangles), the smoke case's mesh: made here, so the smoke case needs no download."""
+def write_torus(path, major=30.0, minor=12.0, segments=48, rings=24, lobe=0.0):
+    """A bumpy torus (2,304 triangles), the smoke case's mesh: made here, so the smoke case needs no download.
+    lobe > 0 adds two swellings of the tube along the ring, of relative heights lobe (at u = 0.7 rad) and lobe / 2
+    (at u = 1.9 rad): no rotation maps that torus onto itself."""
+
+    def swelling(u, centre):
+        distance = math.atan2(math.sin(u - centre), math.cos(u - centre))
+        return math.exp(-(distance / 0.5) ** 2)
+
     points = []
     for i in range(segments):
         u = 2.0 * math.pi * i / segments
         for j in range(rings):
             v = 2.0 * math.pi * j / rings
-            r = minor * (1.0 + 0.15 * math.sin(3.0 * u) * math.cos(2.0 * v))
+            r = minor * (1.0 + 0.15 * math.sin(3.0 * u) * math.cos(2.0 * v)
+                         + lobe * (swelling(u, 0.7) + 0.5 * swelling(u, 1.9)))
             points.append(((major + r * math.cos(v)) * math.cos(u), (major + r * math.cos(v)) * math.sin(u),
                            r * math.sin(v)))
     triangles = []
@@ -835,6 +848,8 @@ def write_results(records, options, versions, results_dir, charts):
                     ratio_text(s["true_mean"], summaries[best]["true_mean"]) if best else "–",
                     ratio_text(s["register"], summaries[best]["register"]) if best and name != "start" else "",
                     len(s["ok"]), (" (" + note + ")") if note else ""))
+    if "posed" in options.regimes:
+        write_posed_table(records, options, add)
     refinements = [m for m in options.methods if "+par" in m]
     if refinements:
         add("")
@@ -878,6 +893,109 @@ def write_results(records, options, versions, results_dir, charts):
     add("")
     with open(os.path.join(results_dir, "RESULTS.md"), "w") as out:
         out.write("\n".join(lines))
+
+
+def find_record(records, mesh, regime, seed, name):
+    for r in records:
+        if r["mesh"] == mesh and r["regime"] == regime and r["seed"] == seed and r["name"] == name:
+            return r
+    return None
+
+
+def true_error(record):
+    if record is None or record["status"] != "ok":
+        return None
+    return record["scores"]["true_error"]["mean"]
+
+
+def posed_ratio(records, record):
+    """posed true error / (scale x the same method's or peer's smooth-regime true error on the same seed)."""
+    posed = true_error(record)
+    aligned = true_error(find_record(records, record["mesh"], "smooth", record["seed"], record["name"]))
+    if posed is None or not aligned or not record.get("pose"):
+        return None
+    return posed / (record["pose"]["scale"] * aligned)
+
+
+POSED_GOAL = 1.25  # issue 18: posed true error <= 1.25 x scale x aligned, and no folding
+
+
+def write_posed_table(records, options, add):
+    names = options.methods + options.peers
+    stage = (getattr(options, "pose_stage", None) or POSE_STAGE).get("posed", "none")
+    add("")
+    add("## Posed regime: matching from any pose")
+    add("")
+    add("Each case is the smooth regime's case of the same mesh and seed (same source, target and truth) with the "
+        "target posed about its centroid by a similarity drawn from the seed (benchmark/posed_cases.py, "
+        "random_pose: rotation angle uniform in [0, 180]° about a uniform axis, scale log-uniform in [0.5, 2], "
+        "shift uniform up to the target's bounding-box diagonal in a uniform direction). True errors are in the "
+        "posed target's units. ffd-match methods run with `--initial-transform %s`; elastix with an affine stage "
+        "(centres of the images aligned to start) before its B-spline stage, the source voxelized on a grid of its "
+        "own; BCPD with `%s`. ratio = posed true error / (scale × the same method's or peer's smooth-regime true "
+        "error on the same seed); the goal (issue 18) is ratio ≤ %.2f and min det J > 0. Pose error (methods): "
+        "rotation angle of R_found R_drawn and scale_found × scale_drawn − 1 (the found pose maps target to "
+        "source)." % (stage, getattr(options, "bcpd_posed_options", BCPD_POSED_OPTIONS), POSED_GOAL))
+    add("")
+    header = "| mesh | seed | pose drawn: angle, scale, shift | start (mm) |"
+    rule = "|---|---|---|---|"
+    for name in names:
+        if name in options.methods:
+            header += " %s (mm) | ratio | min det J | pose error |" % name
+            rule += "---|---|---|---|"
+        else:
+            header += " %s (mm) | ratio | min det J |" % name
+            rule += "---|---|---|"
+    add(header)
+    add(rule)
+    met = {name: [0, 0] for name in names}
+    for mesh in options.meshes:
+        seeds = sorted(set(r["seed"] for r in records if r["mesh"] == mesh and r["regime"] == "posed"))
+        column_values = {name: ([], []) for name in names}
+        starts = []
+        for seed in seeds:
+            start = find_record(records, mesh, "posed", seed, "start")
+            pose = (start or {}).get("pose")
+            cells = [mesh, str(seed), "%.1f°, %.3f, %.1f mm" % (pose["rotation_angle_degrees"], pose["scale"],
+                                                              pose["shift_length"]) if pose else "–"]
+            starts.append(true_error(start))
+            cells.append("%.2f" % starts[-1] if starts[-1] is not None else "–")
+            for name in names:
+                r = find_record(records, mesh, "posed", seed, name)
+                value = true_error(r)
+                if value is None:
+                    reason = (r or {}).get("reason") or (r or {}).get("status") or "no record"
+                    cells += [reason[:120], "", ""] + ([""] if name in options.methods else [])
+                    continue
+                ratio = posed_ratio(records, r)
+                det = r["scores"].get("min_jacobian_determinant")
+                column_values[name][0].append(value)
+                if ratio is not None:
+                    column_values[name][1].append(ratio)
+                cells += ["%.3f" % value, "%.2f" % ratio if ratio is not None else "– (no aligned run)",
+                          "%.3f" % det if isinstance(det, (int, float)) and math.isfinite(det) else "–"]
+                if ratio is not None:
+                    met[name][1] += 1
+                    folded = isinstance(det, (int, float)) and math.isfinite(det) and det <= 0
+                    met[name][0] += ratio <= POSED_GOAL and not folded
+                if name in options.methods:
+                    found = r.get("pose_found")
+                    if found and pose:
+                        angle, scale = posed_cases.pose_error(pose, found)
+                        cells.append("%.2f°, %+.2f %%" % (angle, 100.0 * scale))
+                    else:
+                        cells.append("–")
+            add("| " + " | ".join(cells) + " |")
+        if len(seeds) > 1:
+            cells = [mesh, "mean", "", fmt(starts, 2, False)]
+            for name in names:
+                values, ratios = column_values[name]
+                cells += [fmt(values, 3, False), "%s (max %.2f)" % (fmt(ratios, 2, False), max(ratios))
+                          if ratios else "–", ""] + ([""] if name in options.methods else [])
+            add("| " + " | ".join("**%s**" % c if c else c for c in cells) + " |")
+    add("")
+    add("Goal met (ratio ≤ %.2f, no folding), of the cases with an aligned run: %s." % (POSED_GOAL, "; ".join(
+        "%s %d/%d" % (name, met[name][0], met[name][1]) for name in names)))
 
 
 def write_charts(records, options, results_dir):
@@ -1006,6 +1124,58 @@ def check_smoke(records, results_dir, charts):
     return True
 
 
+# Tolerances of the posed smoke check, about twice what the lobed torus gives at grid 8 and 2 mm voxels (rotation
+# error 2.4°, scale error 1.3 %, ratio 0.85; benchmark/README.md).
+POSED_SMOKE_ROTATION_DEGREES = 5.0
+POSED_SMOKE_SCALE = 0.03
+
+
+def check_smoke_posed(records, results_dir):
+    """The posed smoke case: go+cpd from the drawn pose succeeds, its pose stage recovers the drawn rotation and
+    scale, it does not fold, and it reaches the aligned run's accuracy (ratio <= POSED_GOAL)."""
+    problems = []
+    mesh = SMOKE_POSED_MESH
+    posed = find_record(records, mesh, "posed", 1, "go+cpd")
+    start = find_record(records, mesh, "posed", 1, "start")
+    aligned = find_record(records, mesh, "smooth", 1, "go+cpd")
+    if posed is None or posed["status"] != "ok":
+        problems.append("the posed go+cpd run failed: %s" % (posed or {}).get("reason"))
+    elif true_error(start) is None or true_error(aligned) is None:
+        problems.append("the posed start or the aligned go+cpd run has no true error")
+    else:
+        before, after = true_error(start), true_error(posed)
+        ratio = posed_ratio(records, posed)
+        det = posed["scores"].get("min_jacobian_determinant")
+        found = posed.get("pose_found")
+        log("smoke posed: drawn pose %.2f°, scale %.4f; true error %.3f -> %.3f mm (aligned %.3f mm), ratio %.2f, "
+            "min det J %s" % (posed["pose"]["rotation_angle_degrees"], posed["pose"]["scale"], before, after,
+                              true_error(aligned), ratio, det))
+        if not found:
+            problems.append("the posed run's report has no pose block")
+        else:
+            angle, scale = posed_cases.pose_error(posed["pose"], found)
+            log("smoke posed: pose found %.2f°, scale %.4f: rotation error %.2f°, scale error %+.2f %%" % (
+                found["rotation_angle_degrees"], found["scale"], angle, 100.0 * scale))
+            if not angle < POSED_SMOKE_ROTATION_DEGREES:
+                problems.append("rotation error %.2f° >= %g°" % (angle, POSED_SMOKE_ROTATION_DEGREES))
+            if not abs(scale) < POSED_SMOKE_SCALE:
+                problems.append("scale error %.2f %% >= %g %%" % (100.0 * scale, 100.0 * POSED_SMOKE_SCALE))
+        if not (isinstance(det, (int, float)) and math.isfinite(det) and det > 0):
+            problems.append("min det J %s: folded or missing" % det)
+        if not (before > 10.0 and ratio is not None and ratio <= POSED_GOAL):
+            problems.append("posed / (scale x aligned) = %s > %.2f (start %.3f mm)" % (ratio, POSED_GOAL, before))
+    text = open(os.path.join(results_dir, "RESULTS.md")).read()
+    if "## Posed regime" not in text or "| %s | 1 |" % mesh not in text:
+        problems.append("RESULTS.md lacks the posed table's row")
+    if problems:
+        for problem in problems:
+            log("smoke check: " + problem)
+        return False
+    log("posed smoke check passed")
+    print("benchmark posed smoke check passed")
+    return True
+
+
 # ------------------------------------------------------------------------------------------------
 
 
@@ -1025,6 +1195,9 @@ def parse_arguments():
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--smoke", action="store_true",
                         help="one small generated mesh, grid 8, 2 mm voxels, 1 seed, smooth regime, every method + elastix")
+    parser.add_argument("--smoke-posed", action="store_true",
+                        help="the posed regime's smoke check: a generated lobed torus, grid 8, 2 mm voxels, seed 1, "
+                        "regimes smooth and posed, method go+cpd, no peers")
     parser.add_argument("--build-dir", default=os.environ.get("FFD_BUILD_DIR", os.path.join(ROOT, "build")))
     parser.add_argument("--skip-install", action="store_true", help="do not install missing Debian packages")
     parser.add_argument("--skip-build", action="store_true", help="use the programs already in --build-dir")
@@ -1052,13 +1225,25 @@ def parse_arguments():
             "(when installed: %s) and the point-set peers (when given: %s)." % (
                 "yes" if shutil.which("elastix") else "no",
                 ", ".join("%s %s" % (v, "yes" if os.environ.get(v) else "no") for v in POINT_PEERS.values())))
+    if options.smoke_posed:
+        options.smoke = True  # the smoke case's iteration counts for peers
+        options.meshes = SMOKE_POSED_MESH
+        options.regimes = "smooth,posed"
+        options.seeds = 1
+        options.first_seed = 1
+        options.methods = "go+cpd"
+        options.peers = ""
+        options.grid = 8
+        options.voxel_size = 2.0
+        options.note = options.note or ("Posed smoke run: one generated lobed torus, grid 8, 2 mm voxels, seed 1, "
+                                        "smooth and posed regimes, go+cpd.")
     options.meshes = [m for m in options.meshes.split(",") if m]
     options.regimes = [r for r in options.regimes.split(",") if r]
     options.methods = [m for m in options.methods.split(",") if m]
     options.peers = [p for p in options.peers.split(",") if p]
     for value, known, what in ((options.regimes, ALL_REGIMES, "regime"), (options.methods, ALL_METHODS, "method"),
                                (options.peers, ALL_PEERS, "peer"),
-                               (options.meshes, ALL_MESHES + [SMOKE_MESH], "mesh")):
+                               (options.meshes, ALL_MESHES + [SMOKE_MESH, SMOKE_POSED_MESH], "mesh")):
         for item in value:
             if item not in known:
                 parser.error("unknown %s '%s' (known: %s)" % (what, item, ", ".join(known)))
@@ -1199,6 +1384,8 @@ def main():
                 charts = write_charts(records, options, results_dir)
                 write_results(records, options, versions, results_dir, charts)
     log("wrote %s, %s and %d charts" % (os.path.join(results_dir, "RESULTS.md"), results_json, len(charts)))
+    if options.smoke_posed:
+        return 0 if check_smoke_posed(records, results_dir) else 1
     if options.smoke:
         return 0 if check_smoke(records, results_dir, charts) else 1
     return 0
