@@ -18,11 +18,13 @@ import os
 import platform
 import re
 import shutil
+import array
 import statistics
 import subprocess
 import sys
 import tarfile
 import time
+import zlib
 
 import posed_cases
 
@@ -437,6 +439,104 @@ def run_elastix(case, images, folder, tools, options):
     return stages, field
 
 
+def read_elastix_affine(path):
+    """The affine stage of elastix's TransformParameters file: y = M (x - c) + t + c (M row-major)."""
+    with open(path) as text:
+        content = text.read()
+    values = [float(v) for v in re.search(r"\(TransformParameters ([^)]*)\)", content).group(1).split()]
+    centre = [float(v) for v in re.search(r"\(CenterOfRotationPoint ([^)]*)\)", content).group(1).split()]
+    if len(values) != 12 or len(centre) != 3:
+        raise ValueError("%s: not a 3-D affine transform" % path)
+    return [values[0:3], values[3:6], values[6:9]], values[9:12], centre
+
+
+def invert_affine(matrix, translation, centre):
+    """x = M^-1 (y - t - c) + c, as (M^-1, offset): x = M^-1 y + offset."""
+    (a, b, c), (d, e, f), (g, h, i) = matrix
+    det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
+    inverse = [[(e * i - f * h) / det, (c * h - b * i) / det, (b * f - c * e) / det],
+               [(f * g - d * i) / det, (a * i - c * g) / det, (c * d - a * f) / det],
+               [(d * h - e * g) / det, (b * g - a * h) / det, (a * e - b * d) / det]]
+    shifted = [translation[k] + centre[k] for k in range(3)]
+    offset = [centre[r] - sum(inverse[r][k] * shifted[k] for k in range(3)) for r in range(3)]
+    return inverse, offset
+
+
+def read_mha_field(path):
+    """A 3-D vector image of MetaImage format (header + LOCAL or separate data): header lines and the values."""
+    with open(path, "rb") as data:
+        content = data.read()
+    header = {}
+    position = 0
+    while True:
+        end = content.index(b"\n", position)
+        key, _, value = content[position:end].decode().partition("=")
+        header[key.strip()] = value.strip()
+        position = end + 1
+        if key.strip() == "ElementDataFile":
+            break
+    if header["ElementDataFile"] == "LOCAL":
+        raw = content[position:]
+    else:
+        with open(os.path.join(os.path.dirname(path), header["ElementDataFile"]), "rb") as data:
+            raw = data.read()
+    if header.get("CompressedData", "False").lower() == "true":
+        raw = zlib.decompress(raw)
+    kind = {"MET_FLOAT": "f", "MET_DOUBLE": "d"}[header["ElementType"]]
+    values = array.array(kind)
+    values.frombytes(raw)
+    if header.get("BinaryDataByteOrderMSB", "False").lower() == "true" or \
+            header.get("ElementByteOrderMSB", "False").lower() == "true":
+        values.byteswap()
+    if int(header.get("ElementNumberOfChannels", "1")) != 3 or int(header.get("NDims", "3")) != 3:
+        raise ValueError("%s is not a 3-D displacement field" % path)
+    return header, values
+
+
+def precondition_field(field, affine_file, source, folder):
+    """For the posed regime: the inverse of elastix's whole transform T (x -> x + u(x), its field) at a source vertex
+    p starts at p, far outside the fixed image's domain where u is 0, and stops there at once. This writes the
+    source mapped by the inverse of elastix's own affine stage, A^-1(p), and the field of A^-1 o T, whose inverse
+    at A^-1(p) is T's inverse at p and starts inside the domain. Returns the two paths."""
+    inverse, offset = invert_affine(*read_elastix_affine(affine_file))
+    header, values = read_mha_field(field)
+    size = [int(v) for v in header["DimSize"].split()]
+    spacing = [float(v) for v in header["ElementSpacing"].split()]
+    origin = [float(v) for v in header.get("Offset", header.get("Origin", "0 0 0")).split()]
+    direction = [float(v) for v in header.get("TransformMatrix", "1 0 0 0 1 0 0 0 1").split()]
+    # MetaImage's TransformMatrix is column-major: physical = origin + D (index * spacing), D[r][c] = m[c * 3 + r].
+    d = [[direction[c * 3 + r] for c in range(3)] for r in range(3)]
+    out = array.array("f", bytes(4 * len(values)))
+    index = 0
+    for k in range(size[2]):
+        for j in range(size[1]):
+            for i in range(size[0]):
+                step = (i * spacing[0], j * spacing[1], k * spacing[2])
+                x = [origin[r] + d[r][0] * step[0] + d[r][1] * step[1] + d[r][2] * step[2] for r in range(3)]
+                y = [x[r] + values[index + r] for r in range(3)]
+                for r in range(3):
+                    out[index + r] = (inverse[r][0] * y[0] + inverse[r][1] * y[1] + inverse[r][2] * y[2]
+                                      + offset[r] - x[r])
+                index += 3
+    preconditioned = os.path.join(folder, "field-after-affine-inverse.mha")
+    with open(preconditioned, "wb") as data:
+        for key in ("ObjectType", "NDims", "BinaryData", "BinaryDataByteOrderMSB", "CompressedData",
+                    "TransformMatrix", "Offset", "CenterOfRotation", "AnatomicalOrientation", "ElementSpacing",
+                    "DimSize", "ElementNumberOfChannels"):
+            value = {"BinaryDataByteOrderMSB": "False", "CompressedData": "False"}.get(key, header.get(key))
+            if value is not None:
+                data.write(("%s = %s\n" % (key, value)).encode())
+        data.write(b"ElementType = MET_FLOAT\nElementDataFile = LOCAL\n")
+        if sys.byteorder == "big":
+            out.byteswap()
+        data.write(out.tobytes())
+    vertices, faces = read_off(source)
+    moved = [tuple(sum(inverse[r][k] * v[k] for k in range(3)) + offset[r] for r in range(3)) for v in vertices]
+    mapped_source = os.path.join(folder, "source-after-affine-inverse.off")
+    write_off(mapped_source, moved, faces)
+    return preconditioned, mapped_source
+
+
 PLASTIMATCH_LAMBDA = os.environ.get("FFD_PLASTIMATCH_LAMBDA", "0.005")
 
 
@@ -694,8 +794,17 @@ def run_peer(case, peer, images, tools, options):
         return result_record(case, peer, "peer", stages, None, "failed", failed.reason(), extra)
     deformed = os.path.join(folder, "deformed.off")
     apply_report = os.path.join(folder, "apply.json")
-    stages.append(run("apply", [tools["ffd-benchmark-tool"], "apply-field", "--source", case["source"], "--field",
-                                field, "--output", deformed, "--report", apply_report],
+    apply_source, apply_field = case["source"], field
+    if peer == "elastix" and case["regime"] == "posed":
+        start = time.monotonic()
+        try:
+            apply_field, apply_source = precondition_field(field, os.path.join(folder, "TransformParameters.0.txt"),
+                                                           case["source"], folder)
+        except (OSError, ValueError, KeyError, AttributeError) as error:
+            return result_record(case, peer, "peer", stages, None, "failed", "elastix's field: %s" % error, extra)
+        stages.append(Stage("precondition", time.monotonic() - start, 0.0, 0, "", time.monotonic() - start))
+    stages.append(run("apply", [tools["ffd-benchmark-tool"], "apply-field", "--source", apply_source, "--field",
+                                apply_field, "--output", deformed, "--report", apply_report],
                       os.path.join(folder, "apply.log")))
     if not stages[-1].ok():
         return result_record(case, peer, "peer", stages, None, "failed", stages[-1].reason(), extra)
