@@ -932,6 +932,12 @@ def write_results(records, options, versions, results_dir, charts):
         add("")
         add("## Table 2 form — %s regime" % regime)
         add("")
+        pose_stage = (getattr(options, "pose_stage", None) or POSE_STAGE).get(regime)
+        if pose_stage:
+            add("ffd-match methods run with `--initial-transform %s` in this regime (a pose stage before the "
+                "deformation); peers with their settings for shapes far apart (see the posed table below)."
+                % pose_stage)
+            add("")
         add("| mesh | method | true error mean (mm) | median | p95 | max | MDH (mm) | sym. Hausdorff (mm) | min det J "
             "| register (s) | total (s) | total CPU (s) | peak RSS (MB) | err / best peer | time / best peer | n |")
         add("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
@@ -1030,7 +1036,9 @@ POSED_GOAL = 1.25  # issue 18: posed true error <= 1.25 x scale x aligned, and n
 
 
 def write_posed_table(records, options, add):
-    names = options.methods + options.peers
+    # Only the methods and peers that ran posed (merged tables also hold other regimes' methods and peers).
+    names = [n for n in options.methods + options.peers
+             if any(r["regime"] == "posed" and r["name"] == n for r in records)]
     stage = (getattr(options, "pose_stage", None) or POSE_STAGE).get("posed", "none")
     add("")
     add("## Posed regime: matching from any pose")
