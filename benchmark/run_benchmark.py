@@ -314,7 +314,7 @@ ELASTIX_PARAMETERS = """// B-spline registration of the unsigned distance images
 
 # The affine stage that precedes the B-spline stage in the posed regime (elastix's usual affine + B-spline
 # pipeline): moving image's centre onto the fixed image's centre to start, then an affine transform.
-ELASTIX_AFFINE_PARAMETERS = """// Affine registration of the unsigned distance images, before the B-spline stage (posed regime).
+ELASTIX_AFFINE_PARAMETERS = """// Affine registration of the unsigned distance images, before the B-spline stage.
 (FixedInternalImagePixelType "float")
 (MovingInternalImagePixelType "float")
 (FixedImageDimension 3)
@@ -420,8 +420,9 @@ def run_elastix(case, images, folder, tools, options):
     if case["regime"] == "posed":
         affine = os.path.join(folder, "elastix-affine.txt")
         with open(affine, "w") as out:
-            out.write(ELASTIX_AFFINE_PARAMETERS.format(resolutions=resolutions, iterations=200 if options.smoke else 500,
-                                                       samples=2048, seed=case["seed"] + 1))
+            out.write(ELASTIX_AFFINE_PARAMETERS.format(resolutions=resolutions,
+                                                       iterations=200 if options.smoke else 500, samples=2048,
+                                                       seed=case["seed"] + 1))
         maps = ["-p", affine] + maps
     stages = [run("register", ["elastix", "-f", images["fixed"], "-m", images["moving"], "-fMask", images["mask"]]
                   + maps + ["-out", folder, "-threads", str(options.threads)], os.path.join(folder, "register.log"))]
