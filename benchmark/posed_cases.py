@@ -11,6 +11,7 @@ import argparse
 import json
 import math
 import os
+import random
 import subprocess
 import sys
 
@@ -47,6 +48,8 @@ def rotation(axis, degrees):
 
 
 def pose_mesh(source_path, output_path, axis, degrees, scale, shift):
+    """Writes the mesh posed by x -> c + shift + scale R (x - c), c its vertex centroid, R the rotation by degrees
+    about axis; returns c."""
     vertices, nf, rest = read_off(source_path)
     centre = [sum(v[d] for v in vertices) / len(vertices) for d in range(3)]
     r = rotation(axis, degrees)
@@ -55,6 +58,45 @@ def pose_mesh(source_path, output_path, axis, degrees, scale, shift):
         q = [v[d] - centre[d] for d in range(3)]
         posed.append(tuple(centre[a] + shift[a] + scale * sum(r[a][b] * q[b] for b in range(3)) for a in range(3)))
     write_off(output_path, posed, nf, rest)
+    return centre
+
+
+def pose_error(drawn, found):
+    """The error of a pose found by ffd-match (its report's "pose" block, target to source) against the drawn pose
+    (aligned target to posed target, random_pose): the rotation angle (degrees) of R_found R_drawn, which is the
+    identity when the found rotation undoes the drawn one, and the relative error of scale_found x scale_drawn."""
+    a = rotation(found["rotation_axis"], found["rotation_angle_degrees"])
+    b = rotation(drawn["rotation_axis"], drawn["rotation_angle_degrees"])
+    trace = sum(a[i][k] * b[k][i] for i in range(3) for k in range(3))
+    angle = math.degrees(math.acos(max(-1.0, min(1.0, 0.5 * (trace - 1.0)))))
+    return angle, found["scale"] * drawn["scale"] - 1.0
+
+
+def bounding_box_diagonal(path):
+    vertices = read_off(path)[0]
+    return math.sqrt(sum((max(v[d] for v in vertices) - min(v[d] for v in vertices)) ** 2 for d in range(3)))
+
+
+def unit_vector(generator):
+    """A direction uniform on the sphere."""
+    z = generator.uniform(-1.0, 1.0)
+    phi = generator.uniform(0.0, 2.0 * math.pi)
+    r = math.sqrt(max(0.0, 1.0 - z * z))
+    return [r * math.cos(phi), r * math.sin(phi), z]
+
+
+def random_pose(seed, diagonal):
+    """The benchmark's posed regime: a similarity drawn from seed (random.Random(seed)): rotation angle uniform in
+    [0, 180] degrees about a uniformly random axis, isotropic scale log-uniform in [0.5, 2], shift of a length
+    uniform in [0, diagonal] in a uniformly random direction."""
+    generator = random.Random(seed)
+    angle = generator.uniform(0.0, 180.0)
+    axis = unit_vector(generator)
+    scale = math.exp(generator.uniform(math.log(0.5), math.log(2.0)))
+    direction = unit_vector(generator)
+    length = generator.uniform(0.0, diagonal)
+    return {"rotation_angle_degrees": angle, "rotation_axis": axis, "scale": scale,
+            "shift": [length * d for d in direction], "shift_length": length}
 
 
 def run(command, log):

@@ -18,18 +18,24 @@ import os
 import platform
 import re
 import shutil
+import array
 import statistics
 import subprocess
 import sys
 import tarfile
 import time
+import zlib
+
+import posed_cases
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 CGAL_DATA = "/usr/share/doc/libcgal-dev/data.tar.gz"
 ALL_MESHES = ["fandisk_large", "bunny00", "diplodocus", "cheese"]
-ALL_REGIMES = ["paper", "smooth", "short"]
+ALL_REGIMES = ["paper", "smooth", "short", "posed"]
 # "short" (the smooth regime's noise smoothed over half the length) is a second noise model, run on request.
+# "posed" is the smooth regime's case (same source, target and truth) with the target posed by a similarity drawn
+# from the seed (posed_cases.random_pose), run on request.
 DEFAULT_REGIMES = ["paper", "smooth"]
 ALL_METHODS = ["go", "mrf", "par", "go+par", "mrf+par", "go+cpd"]
 IMAGE_PEERS = ["elastix", "plastimatch-mi", "plastimatch-mse"]
@@ -41,8 +47,18 @@ ALL_PEERS = IMAGE_PEERS + list(POINT_PEERS)
 # beta 1.2, lambda 50; similarity + non-rigid) with its variational-Bayes acceleration (Nystrom + KD tree, the
 # values of its -A option); FFD_BCPD_OPTIONS replaces them.
 BCPD_OPTIONS = os.environ.get("FFD_BCPD_OPTIONS", "-w0.1 -b1.2 -l50 -g0.1 -ux -Tsrn -K70 -J300 -p -d7 -e0.15 -f0.2")
+# BCPD's settings for shapes far apart: its README's "gamma around 2 to 10 if your target point set is largely
+# rotated", each point set normalized on its own (-ue, its default); the rest as above. FFD_BCPD_POSED_OPTIONS
+# replaces them.
+BCPD_POSED_OPTIONS = os.environ.get("FFD_BCPD_POSED_OPTIONS",
+                                    "-w0.1 -b1.2 -l50 -g3 -ue -Tsrn -K70 -J300 -p -d7 -e0.15 -f0.2")
+# The pose stage of ffd-match's methods per regime (--initial-transform); regimes not named here use none.
+POSE_STAGE = {"posed": "similarity"}
 PACKAGES = ["elastix", "plastimatch", "libcgal-demo", "gnuplot-nox", "time"]
 SMOKE_MESH = "smoke-torus"
+# The posed smoke case's mesh: the smoke torus with a one-sided lobe, so that no rotation maps it onto itself (the
+# smoke torus has a 3-fold axis and in-plane half-turn symmetries: a pose is not defined on it).
+SMOKE_POSED_MESH = "smoke-lobed-torus"
 
 
 def log(message):
@@ -84,7 +100,7 @@ def build_project(build_dir, install):
 def extract_meshes(names, folder):
     os.makedirs(folder, exist_ok=True)
     paths = {}
-    wanted = {"data/meshes/%s.off" % name: name for name in names if name != SMOKE_MESH}
+    wanted = {"data/meshes/%s.off" % name: name for name in names if name not in (SMOKE_MESH, SMOKE_POSED_MESH)}
     if wanted:
         if not os.path.exists(CGAL_DATA):
             raise SystemExit("run_benchmark: %s is missing (Debian package libcgal-demo)" % CGAL_DATA)
@@ -101,17 +117,27 @@ def extract_meshes(names, folder):
                 raise SystemExit("run_benchmark: %s.off is not in %s" % (name, CGAL_DATA))
     if SMOKE_MESH in names:
         paths[SMOKE_MESH] = write_torus(os.path.join(folder, SMOKE_MESH + ".off"))
+    if SMOKE_POSED_MESH in names:
+        paths[SMOKE_POSED_MESH] = write_torus(os.path.join(folder, SMOKE_POSED_MESH + ".off"), lobe=0.35)
     return paths
 
 
-def write_torus(path, major=30.0, minor=12.0, segments=48, rings=24):
-    """A bumpy torus (2,304 triangles), the smoke case's mesh: made here, so the smoke case needs no download."""
+def write_torus(path, major=30.0, minor=12.0, segments=48, rings=24, lobe=0.0):
+    """A bumpy torus (2,304 triangles), the smoke case's mesh: made here, so the smoke case needs no download.
+    lobe > 0 adds two swellings of the tube along the ring, of relative heights lobe (at u = 0.7 rad) and lobe / 2
+    (at u = 1.9 rad): no rotation maps that torus onto itself."""
+
+    def swelling(u, centre):
+        distance = math.atan2(math.sin(u - centre), math.cos(u - centre))
+        return math.exp(-(distance / 0.5) ** 2)
+
     points = []
     for i in range(segments):
         u = 2.0 * math.pi * i / segments
         for j in range(rings):
             v = 2.0 * math.pi * j / rings
-            r = minor * (1.0 + 0.15 * math.sin(3.0 * u) * math.cos(2.0 * v))
+            r = minor * (1.0 + 0.15 * math.sin(3.0 * u) * math.cos(2.0 * v)
+                         + lobe * (swelling(u, 0.7) + 0.5 * swelling(u, 1.9)))
             points.append(((major + r * math.cos(v)) * math.cos(u), (major + r * math.cos(v)) * math.sin(u),
                            r * math.sin(v)))
     triangles = []
@@ -286,6 +312,44 @@ ELASTIX_PARAMETERS = """// B-spline registration of the unsigned distance images
 (RandomSeed {seed})
 """
 
+# The affine stage that precedes the B-spline stage in the posed regime (elastix's usual affine + B-spline
+# pipeline): moving image's centre onto the fixed image's centre to start, then an affine transform.
+ELASTIX_AFFINE_PARAMETERS = """// Affine registration of the unsigned distance images, before the B-spline stage.
+(FixedInternalImagePixelType "float")
+(MovingInternalImagePixelType "float")
+(FixedImageDimension 3)
+(MovingImageDimension 3)
+(UseDirectionCosines "true")
+(Registration "MultiResolutionRegistration")
+(Interpolator "BSplineInterpolator")
+(ResampleInterpolator "FinalBSplineInterpolator")
+(Resampler "DefaultResampler")
+(FixedImagePyramid "FixedSmoothingImagePyramid")
+(MovingImagePyramid "MovingSmoothingImagePyramid")
+(Optimizer "AdaptiveStochasticGradientDescent")
+(Transform "AffineTransform")
+(Metric "AdvancedMattesMutualInformation")
+(NumberOfHistogramBins 32)
+(AutomaticScalesEstimation "true")
+(AutomaticTransformInitialization "true")
+(AutomaticTransformInitializationMethod "GeometricalCenter")
+(HowToCombineTransforms "Compose")
+(NumberOfResolutions {resolutions})
+(MaximumNumberOfIterations {iterations})
+(ImageSampler "RandomCoordinate")
+(NumberOfSpatialSamples {samples})
+(NewSamplesEveryIteration "true")
+(UseRandomSampleRegion "false")
+(ErodeMask "false")
+(BSplineInterpolationOrder 1)
+(FinalBSplineInterpolationOrder 3)
+(AutomaticParameterEstimation "true")
+(DefaultPixelValue 0)
+(WriteResultImage "false")
+(ResultImageFormat "mha")
+(RandomSeed {seed})
+"""
+
 PLASTIMATCH_COMMAND = """# B-spline registration of the unsigned distance images of the meshes (benchmark/README.md).
 [GLOBAL]
 fixed={fixed}
@@ -317,7 +381,8 @@ def peer_images(case, work, tools, voxel_size, threads, smoke):
     """Voxelizes both meshes with ffd-voxelize on one common grid, the target's bounds + 8 voxels (as ffd-match's
     fixed image, so a peer's B-spline grid at the module's spacing has the module's number of control points):
     unsigned distance (sdf mode, band 5 voxels) of each mesh, and a band mask around the target surface that
-    restricts the metric's samples."""
+    restricts the metric's samples. In the posed regime the source is far from the target's grid: it gets a grid of
+    its own (its bounds + 8 voxels, same voxel size)."""
     folder = os.path.join(work, "images")
     os.makedirs(folder, exist_ok=True)
     fixed = os.path.join(folder, "target.mha")
@@ -330,8 +395,10 @@ def peer_images(case, work, tools, voxel_size, threads, smoke):
                                           "--voxel-size", "%g" % voxel_size, "--margin", "%g" % (8 * voxel_size),
                                           "--band-width", band] + common, os.path.join(folder, "voxelize-target.log")))
     if stages[-1].ok():
+        geometry = ["--reference", fixed] if case["regime"] != "posed" else \
+            ["--voxel-size", "%g" % voxel_size, "--margin", "%g" % (8 * voxel_size)]
         stages.append(run("voxelize-source", [tools["ffd-voxelize"], case["source"], moving, "--mode", "sdf",
-                                              "--unsigned", "--reference", fixed, "--band-width", band] + common,
+                                              "--unsigned", "--band-width", band] + geometry + common,
                           os.path.join(folder, "voxelize-source.log")))
     if stages[-1].ok():
         stages.append(run("voxelize-mask", [tools["ffd-voxelize"], case["target"], mask, "--mode", "band",
@@ -349,12 +416,21 @@ def run_elastix(case, images, folder, tools, options):
             spacing=" ".join("%.4f" % s for s in spacing),
             schedule=" ".join(" ".join([str(2 ** (resolutions - 1 - level))] * 3) for level in range(resolutions)),
             resolutions=resolutions, iterations=200 if options.smoke else 500, samples=2048, seed=case["seed"] + 1))
-    stages = [run("register", ["elastix", "-f", images["fixed"], "-m", images["moving"], "-fMask", images["mask"],
-                               "-p", parameters, "-out", folder, "-threads", str(options.threads)],
-                  os.path.join(folder, "register.log"))]
+    maps = ["-p", parameters]
+    if case["regime"] == "posed":
+        affine = os.path.join(folder, "elastix-affine.txt")
+        with open(affine, "w") as out:
+            out.write(ELASTIX_AFFINE_PARAMETERS.format(resolutions=resolutions,
+                                                       iterations=200 if options.smoke else 500, samples=2048,
+                                                       seed=case["seed"] + 1))
+        maps = ["-p", affine] + maps
+    stages = [run("register", ["elastix", "-f", images["fixed"], "-m", images["moving"], "-fMask", images["mask"]]
+                  + maps + ["-out", folder, "-threads", str(options.threads)], os.path.join(folder, "register.log"))]
     field = os.path.join(folder, "deformationField.mha")
     if stages[-1].ok():
-        stages.append(run("field", ["transformix", "-def", "all", "-tp", os.path.join(folder, "TransformParameters.0.txt"),
+        # The last map's parameters name the earlier maps' as their initial transform: the field is the whole.
+        last = os.path.join(folder, "TransformParameters.%d.txt" % (len(maps) // 2 - 1))
+        stages.append(run("field", ["transformix", "-def", "all", "-tp", last,
                                     "-out", folder, "-threads", str(options.threads)], os.path.join(folder, "field.log")))
         if stages[-1].ok() and not os.path.exists(field):
             alternatives = [name for name in os.listdir(folder) if name.startswith("deformationField.")
@@ -362,6 +438,104 @@ def run_elastix(case, images, folder, tools, options):
             if alternatives:
                 field = os.path.join(folder, alternatives[0])
     return stages, field
+
+
+def read_elastix_affine(path):
+    """The affine stage of elastix's TransformParameters file: y = M (x - c) + t + c (M row-major)."""
+    with open(path) as text:
+        content = text.read()
+    values = [float(v) for v in re.search(r"\(TransformParameters ([^)]*)\)", content).group(1).split()]
+    centre = [float(v) for v in re.search(r"\(CenterOfRotationPoint ([^)]*)\)", content).group(1).split()]
+    if len(values) != 12 or len(centre) != 3:
+        raise ValueError("%s: not a 3-D affine transform" % path)
+    return [values[0:3], values[3:6], values[6:9]], values[9:12], centre
+
+
+def invert_affine(matrix, translation, centre):
+    """x = M^-1 (y - t - c) + c, as (M^-1, offset): x = M^-1 y + offset."""
+    (a, b, c), (d, e, f), (g, h, i) = matrix
+    det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g)
+    inverse = [[(e * i - f * h) / det, (c * h - b * i) / det, (b * f - c * e) / det],
+               [(f * g - d * i) / det, (a * i - c * g) / det, (c * d - a * f) / det],
+               [(d * h - e * g) / det, (b * g - a * h) / det, (a * e - b * d) / det]]
+    shifted = [translation[k] + centre[k] for k in range(3)]
+    offset = [centre[r] - sum(inverse[r][k] * shifted[k] for k in range(3)) for r in range(3)]
+    return inverse, offset
+
+
+def read_mha_field(path):
+    """A 3-D vector image of MetaImage format (header + LOCAL or separate data): header lines and the values."""
+    with open(path, "rb") as data:
+        content = data.read()
+    header = {}
+    position = 0
+    while True:
+        end = content.index(b"\n", position)
+        key, _, value = content[position:end].decode().partition("=")
+        header[key.strip()] = value.strip()
+        position = end + 1
+        if key.strip() == "ElementDataFile":
+            break
+    if header["ElementDataFile"] == "LOCAL":
+        raw = content[position:]
+    else:
+        with open(os.path.join(os.path.dirname(path), header["ElementDataFile"]), "rb") as data:
+            raw = data.read()
+    if header.get("CompressedData", "False").lower() == "true":
+        raw = zlib.decompress(raw)
+    kind = {"MET_FLOAT": "f", "MET_DOUBLE": "d"}[header["ElementType"]]
+    values = array.array(kind)
+    values.frombytes(raw)
+    if header.get("BinaryDataByteOrderMSB", "False").lower() == "true" or \
+            header.get("ElementByteOrderMSB", "False").lower() == "true":
+        values.byteswap()
+    if int(header.get("ElementNumberOfChannels", "1")) != 3 or int(header.get("NDims", "3")) != 3:
+        raise ValueError("%s is not a 3-D displacement field" % path)
+    return header, values
+
+
+def precondition_field(field, affine_file, source, folder):
+    """For the posed regime: the inverse of elastix's whole transform T (x -> x + u(x), its field) at a source vertex
+    p starts at p, far outside the fixed image's domain where u is 0, and stops there at once. This writes the
+    source mapped by the inverse of elastix's own affine stage, A^-1(p), and the field of A^-1 o T, whose inverse
+    at A^-1(p) is T's inverse at p and starts inside the domain. Returns the two paths."""
+    inverse, offset = invert_affine(*read_elastix_affine(affine_file))
+    header, values = read_mha_field(field)
+    size = [int(v) for v in header["DimSize"].split()]
+    spacing = [float(v) for v in header["ElementSpacing"].split()]
+    origin = [float(v) for v in header.get("Offset", header.get("Origin", "0 0 0")).split()]
+    direction = [float(v) for v in header.get("TransformMatrix", "1 0 0 0 1 0 0 0 1").split()]
+    # MetaImage's TransformMatrix is column-major: physical = origin + D (index * spacing), D[r][c] = m[c * 3 + r].
+    d = [[direction[c * 3 + r] for c in range(3)] for r in range(3)]
+    out = array.array("f", bytes(4 * len(values)))
+    index = 0
+    for k in range(size[2]):
+        for j in range(size[1]):
+            for i in range(size[0]):
+                step = (i * spacing[0], j * spacing[1], k * spacing[2])
+                x = [origin[r] + d[r][0] * step[0] + d[r][1] * step[1] + d[r][2] * step[2] for r in range(3)]
+                y = [x[r] + values[index + r] for r in range(3)]
+                for r in range(3):
+                    out[index + r] = (inverse[r][0] * y[0] + inverse[r][1] * y[1] + inverse[r][2] * y[2]
+                                      + offset[r] - x[r])
+                index += 3
+    preconditioned = os.path.join(folder, "field-after-affine-inverse.mha")
+    with open(preconditioned, "wb") as data:
+        for key in ("ObjectType", "NDims", "BinaryData", "BinaryDataByteOrderMSB", "CompressedData",
+                    "TransformMatrix", "Offset", "CenterOfRotation", "AnatomicalOrientation", "ElementSpacing",
+                    "DimSize", "ElementNumberOfChannels"):
+            value = {"BinaryDataByteOrderMSB": "False", "CompressedData": "False"}.get(key, header.get(key))
+            if value is not None:
+                data.write(("%s = %s\n" % (key, value)).encode())
+        data.write(b"ElementType = MET_FLOAT\nElementDataFile = LOCAL\n")
+        if sys.byteorder == "big":
+            out.byteswap()
+        data.write(out.tobytes())
+    vertices, faces = read_off(source)
+    moved = [tuple(sum(inverse[r][k] * v[k] for k in range(3)) + offset[r] for r in range(3)) for v in vertices]
+    mapped_source = os.path.join(folder, "source-after-affine-inverse.off")
+    write_off(mapped_source, moved, faces)
+    return preconditioned, mapped_source
 
 
 PLASTIMATCH_LAMBDA = os.environ.get("FFD_PLASTIMATCH_LAMBDA", "0.005")
@@ -425,6 +599,13 @@ def read_points(path, count, what):
     return [tuple(float(v) for v in row[:3]) for row in rows]
 
 
+def bcpd_options(regime, options):
+    """BCPD's options: for shapes far apart in the posed regime, for roughly aligned shapes otherwise."""
+    if regime == "posed":
+        return getattr(options, "bcpd_posed_options", BCPD_POSED_OPTIONS)
+    return getattr(options, "bcpd_options", BCPD_OPTIONS)
+
+
 def run_point_peer(case, peer, tools, options):
     folder = os.path.join(case["folder"], "peers", peer)
     os.makedirs(folder, exist_ok=True)
@@ -453,7 +634,7 @@ def run_point_peer(case, peer, tools, options):
         output = prefix + "y.txt"
         # X = target (fixed), Y = source (moving): BCPD moves Y onto X and writes the moved Y in Y's order.
         command = [program, "-x", x_path, "-y", y_path, "-o", prefix, "-r", str(case["seed"] + 1)] + \
-            BCPD_OPTIONS.split()
+            bcpd_options(case["regime"], options).split()
     else:
         stages.append(Stage("convert", time.monotonic() - start, 0.0, 0, "", time.monotonic() - start))
         output = os.path.join(folder, "nicp-output.off")
@@ -497,15 +678,42 @@ def make_case(mesh_name, mesh_path, regime, seed, work, tools, options):
     truth = os.path.join(folder, "truth")
     os.makedirs(inputs, exist_ok=True)
     os.makedirs(truth, exist_ok=True)
+    # The posed regime's case is the smooth regime's case of the same mesh and seed, its target then posed.
+    generated = "smooth" if regime == "posed" else regime
     stage = run("case", [tools["ffd-benchmark-tool"], "case", "--mesh", mesh_path, "--out-dir", inputs, "--truth-dir",
-                         truth, "--regime", regime, "--seed", str(seed), "--fraction", "%g" % options.fraction,
+                         truth, "--regime", generated, "--seed", str(seed), "--fraction", "%g" % options.fraction,
                          "--grid", str(options.grid)], os.path.join(folder, "case.log"))
     if not stage.ok():
         raise RuntimeError("case generation failed for %s %s %d: %s" % (mesh_name, regime, seed, stage.reason()))
-    return {"mesh": mesh_name, "regime": regime, "seed": seed, "folder": folder,
+    case = {"mesh": mesh_name, "regime": regime, "seed": seed, "folder": folder,
             "source": os.path.join(inputs, "source.off"), "target": os.path.join(inputs, "target.off"),
             "truth": os.path.join(truth, "truth.txt"), "true_transform": os.path.join(truth, "T_true.tfm"),
             "description": read_json(os.path.join(truth, "case.json"))}
+    if regime == "posed":
+        case["pose"] = pose_target(case, truth)
+        case["description"] = dict(case["description"] or {}, regime="posed", generated_as="smooth",
+                                   pose=case["pose"])
+        with open(os.path.join(truth, "case.json"), "w") as out:
+            json.dump(case["description"], out, indent=1)
+    return case
+
+
+def pose_target(case, truth):
+    """Poses the case's target in place by the similarity drawn from its seed, about the target's centroid: the
+    aligned target is kept in the truth folder (no method sees it), the truth's correspondences stay valid, and
+    true errors are in the posed target's units (the aligned errors times the scale). T_true stays the aligned
+    case's noise (the Par methods' templates)."""
+    aligned = os.path.join(truth, "target-aligned.off")
+    os.replace(case["target"], aligned)
+    diagonal = posed_cases.bounding_box_diagonal(aligned)
+    pose = posed_cases.random_pose(case["seed"], diagonal)
+    pose["centre"] = posed_cases.pose_mesh(aligned, case["target"], pose["rotation_axis"],
+                                           pose["rotation_angle_degrees"], pose["scale"], pose["shift"])
+    pose["target_diagonal"] = diagonal
+    pose["direction"] = "aligned target to posed target: x -> centre + shift + scale R (x - centre)"
+    with open(os.path.join(truth, "pose.json"), "w") as out:
+        json.dump(pose, out, indent=1)
+    return pose
 
 
 def score(case, deformed, folder, tools, extra):
@@ -522,6 +730,8 @@ def result_record(case, name, kind, stages, scores, status, reason=None, extra=N
               "peak_mb": max([stage.peak_mb for stage in stages if stage.name != "score"] or [0.0]),
               "cpu_seconds_total": sum(stage.cpu_seconds or 0.0 for stage in stages if stage.name != "score"),
               "scores": scores}
+    if case.get("pose"):
+        record["pose"] = case["pose"]  # the drawn pose of a posed case
     if extra:
         record.update(extra)
     return record
@@ -537,6 +747,8 @@ def run_method(case, method, tools, options):
                "--output", deformed, "--transform-out", transform, "--report", report, "--grid", str(options.grid),
                "--voxel-size", "%g" % options.voxel_size, "--threads", str(options.threads),
                "--seed", str(case["seed"] + 1)]
+    if case["regime"] in POSE_STAGE:
+        command += ["--initial-transform", POSE_STAGE[case["regime"]]]
     if "par" in method:
         # The paper's protocol: the true noise directions per control point, magnitudes unknown.
         command += ["--templates", case["true_transform"], "--template-split", "control-point"]
@@ -554,6 +766,8 @@ def run_method(case, method, tools, options):
         scores["jacobian_from"] = "ffd-match report"
     seconds = report_data.get("seconds", {})
     extra = {"register_seconds": seconds.get("register"), "stage_seconds": seconds}
+    if report_data.get("pose"):
+        extra["pose_found"] = report_data["pose"]
     if scores is None:
         return result_record(case, method, "method", [stage, score_stage], None, "failed", score_stage.reason(), extra)
     return result_record(case, method, "method", [stage, score_stage], scores, "ok", None, extra)
@@ -581,8 +795,17 @@ def run_peer(case, peer, images, tools, options):
         return result_record(case, peer, "peer", stages, None, "failed", failed.reason(), extra)
     deformed = os.path.join(folder, "deformed.off")
     apply_report = os.path.join(folder, "apply.json")
-    stages.append(run("apply", [tools["ffd-benchmark-tool"], "apply-field", "--source", case["source"], "--field",
-                                field, "--output", deformed, "--report", apply_report],
+    apply_source, apply_field = case["source"], field
+    if peer == "elastix" and case["regime"] == "posed":
+        start = time.monotonic()
+        try:
+            apply_field, apply_source = precondition_field(field, os.path.join(folder, "TransformParameters.0.txt"),
+                                                           case["source"], folder)
+        except (OSError, ValueError, KeyError, AttributeError) as error:
+            return result_record(case, peer, "peer", stages, None, "failed", "elastix's field: %s" % error, extra)
+        stages.append(Stage("precondition", time.monotonic() - start, 0.0, 0, "", time.monotonic() - start))
+    stages.append(run("apply", [tools["ffd-benchmark-tool"], "apply-field", "--source", apply_source, "--field",
+                                apply_field, "--output", deformed, "--report", apply_report],
                       os.path.join(folder, "apply.log")))
     if not stages[-1].ok():
         return result_record(case, peer, "peer", stages, None, "failed", stages[-1].reason(), extra)
@@ -710,6 +933,12 @@ def write_results(records, options, versions, results_dir, charts):
         add("")
         add("## Table 2 form — %s regime" % regime)
         add("")
+        pose_stage = (getattr(options, "pose_stage", None) or POSE_STAGE).get(regime)
+        if pose_stage:
+            add("ffd-match methods run with `--initial-transform %s` in this regime (a pose stage before the "
+                "deformation); peers with their settings for shapes far apart (see the posed table below)."
+                % pose_stage)
+            add("")
         add("| mesh | method | true error mean (mm) | median | p95 | max | MDH (mm) | sym. Hausdorff (mm) | min det J "
             "| register (s) | total (s) | total CPU (s) | peak RSS (MB) | err / best peer | time / best peer | n |")
         add("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
@@ -735,6 +964,8 @@ def write_results(records, options, versions, results_dir, charts):
                     ratio_text(s["true_mean"], summaries[best]["true_mean"]) if best else "–",
                     ratio_text(s["register"], summaries[best]["register"]) if best and name != "start" else "",
                     len(s["ok"]), (" (" + note + ")") if note else ""))
+    if "posed" in options.regimes:
+        write_posed_table(records, options, add)
     refinements = [m for m in options.methods if "+par" in m]
     if refinements:
         add("")
@@ -778,6 +1009,111 @@ def write_results(records, options, versions, results_dir, charts):
     add("")
     with open(os.path.join(results_dir, "RESULTS.md"), "w") as out:
         out.write("\n".join(lines))
+
+
+def find_record(records, mesh, regime, seed, name):
+    for r in records:
+        if r["mesh"] == mesh and r["regime"] == regime and r["seed"] == seed and r["name"] == name:
+            return r
+    return None
+
+
+def true_error(record):
+    if record is None or record["status"] != "ok":
+        return None
+    return record["scores"]["true_error"]["mean"]
+
+
+def posed_ratio(records, record):
+    """posed true error / (scale x the same method's or peer's smooth-regime true error on the same seed)."""
+    posed = true_error(record)
+    aligned = true_error(find_record(records, record["mesh"], "smooth", record["seed"], record["name"]))
+    if posed is None or not aligned or not record.get("pose"):
+        return None
+    return posed / (record["pose"]["scale"] * aligned)
+
+
+POSED_GOAL = 1.25  # issue 18: posed true error <= 1.25 x scale x aligned, and no folding
+
+
+def write_posed_table(records, options, add):
+    # Only the methods and peers that ran posed (merged tables also hold other regimes' methods and peers).
+    names = [n for n in options.methods + options.peers
+             if any(r["regime"] == "posed" and r["name"] == n for r in records)]
+    stage = (getattr(options, "pose_stage", None) or POSE_STAGE).get("posed", "none")
+    add("")
+    add("## Posed regime: matching from any pose")
+    add("")
+    add("Each case is the smooth regime's case of the same mesh and seed (same source, target and truth) with the "
+        "target posed about its centroid by a similarity drawn from the seed (benchmark/posed_cases.py, "
+        "random_pose: rotation angle uniform in [0, 180]° about a uniform axis, scale log-uniform in [0.5, 2], "
+        "shift uniform up to the target's bounding-box diagonal in a uniform direction). True errors are in the "
+        "posed target's units. ffd-match methods run with `--initial-transform %s`; elastix with an affine stage "
+        "(centres of the images aligned to start) before its B-spline stage, the source voxelized on a grid of its "
+        "own; BCPD with `%s`. ratio = posed true error / (scale × the same method's or peer's smooth-regime true "
+        "error on the same seed); the goal (issue 18) is ratio ≤ %.2f and min det J > 0. Pose error (methods): "
+        "rotation angle of R_found R_drawn and scale_found × scale_drawn − 1 (the found pose maps target to "
+        "source)." % (stage, getattr(options, "bcpd_posed_options", BCPD_POSED_OPTIONS), POSED_GOAL))
+    add("")
+    header = "| mesh | seed | pose drawn: angle, scale, shift | start (mm) |"
+    rule = "|---|---|---|---|"
+    for name in names:
+        if name in options.methods:
+            header += " %s (mm) | ratio | min det J | pose error |" % name
+            rule += "---|---|---|---|"
+        else:
+            header += " %s (mm) | ratio | min det J |" % name
+            rule += "---|---|---|"
+    add(header)
+    add(rule)
+    met = {name: [0, 0] for name in names}
+    for mesh in options.meshes:
+        seeds = sorted(set(r["seed"] for r in records if r["mesh"] == mesh and r["regime"] == "posed"))
+        column_values = {name: ([], []) for name in names}
+        starts = []
+        for seed in seeds:
+            start = find_record(records, mesh, "posed", seed, "start")
+            pose = (start or {}).get("pose")
+            cells = [mesh, str(seed), "%.1f°, %.3f, %.1f mm" % (pose["rotation_angle_degrees"], pose["scale"],
+                                                              pose["shift_length"]) if pose else "–"]
+            starts.append(true_error(start))
+            cells.append("%.2f" % starts[-1] if starts[-1] is not None else "–")
+            for name in names:
+                r = find_record(records, mesh, "posed", seed, name)
+                value = true_error(r)
+                if value is None:
+                    reason = (r or {}).get("reason") or (r or {}).get("status") or "no record"
+                    cells += [reason[:120], "", ""] + ([""] if name in options.methods else [])
+                    continue
+                ratio = posed_ratio(records, r)
+                det = r["scores"].get("min_jacobian_determinant")
+                column_values[name][0].append(value)
+                if ratio is not None:
+                    column_values[name][1].append(ratio)
+                cells += ["%.3f" % value, "%.2f" % ratio if ratio is not None else "– (no aligned run)",
+                          "%.3f" % det if isinstance(det, (int, float)) and math.isfinite(det) else "–"]
+                if ratio is not None:
+                    met[name][1] += 1
+                    folded = isinstance(det, (int, float)) and math.isfinite(det) and det <= 0
+                    met[name][0] += ratio <= POSED_GOAL and not folded
+                if name in options.methods:
+                    found = r.get("pose_found")
+                    if found and pose:
+                        angle, scale = posed_cases.pose_error(pose, found)
+                        cells.append("%.2f°, %+.2f %%" % (angle, 100.0 * scale))
+                    else:
+                        cells.append("–")
+            add("| " + " | ".join(cells) + " |")
+        if len(seeds) > 1:
+            cells = [mesh, "mean", "", fmt(starts, 2, False)]
+            for name in names:
+                values, ratios = column_values[name]
+                cells += [fmt(values, 3, False), "%s (max %.2f)" % (fmt(ratios, 2, False), max(ratios))
+                          if ratios else "–", ""] + ([""] if name in options.methods else [])
+            add("| " + " | ".join("**%s**" % c if c else c for c in cells) + " |")
+    add("")
+    add("Goal met (ratio ≤ %.2f, no folding), of the cases with an aligned run: %s." % (POSED_GOAL, "; ".join(
+        "%s %d/%d" % (name, met[name][0], met[name][1]) for name in names)))
 
 
 def write_charts(records, options, results_dir):
@@ -906,6 +1242,58 @@ def check_smoke(records, results_dir, charts):
     return True
 
 
+# Tolerances of the posed smoke check, about twice what the lobed torus gives at grid 8 and 2 mm voxels (rotation
+# error 2.4°, scale error 1.3 %, ratio 0.85; benchmark/README.md).
+POSED_SMOKE_ROTATION_DEGREES = 5.0
+POSED_SMOKE_SCALE = 0.03
+
+
+def check_smoke_posed(records, results_dir):
+    """The posed smoke case: go+cpd from the drawn pose succeeds, its pose stage recovers the drawn rotation and
+    scale, it does not fold, and it reaches the aligned run's accuracy (ratio <= POSED_GOAL)."""
+    problems = []
+    mesh = SMOKE_POSED_MESH
+    posed = find_record(records, mesh, "posed", 1, "go+cpd")
+    start = find_record(records, mesh, "posed", 1, "start")
+    aligned = find_record(records, mesh, "smooth", 1, "go+cpd")
+    if posed is None or posed["status"] != "ok":
+        problems.append("the posed go+cpd run failed: %s" % (posed or {}).get("reason"))
+    elif true_error(start) is None or true_error(aligned) is None:
+        problems.append("the posed start or the aligned go+cpd run has no true error")
+    else:
+        before, after = true_error(start), true_error(posed)
+        ratio = posed_ratio(records, posed)
+        det = posed["scores"].get("min_jacobian_determinant")
+        found = posed.get("pose_found")
+        log("smoke posed: drawn pose %.2f°, scale %.4f; true error %.3f -> %.3f mm (aligned %.3f mm), ratio %.2f, "
+            "min det J %s" % (posed["pose"]["rotation_angle_degrees"], posed["pose"]["scale"], before, after,
+                              true_error(aligned), ratio, det))
+        if not found:
+            problems.append("the posed run's report has no pose block")
+        else:
+            angle, scale = posed_cases.pose_error(posed["pose"], found)
+            log("smoke posed: pose found %.2f°, scale %.4f: rotation error %.2f°, scale error %+.2f %%" % (
+                found["rotation_angle_degrees"], found["scale"], angle, 100.0 * scale))
+            if not angle < POSED_SMOKE_ROTATION_DEGREES:
+                problems.append("rotation error %.2f° >= %g°" % (angle, POSED_SMOKE_ROTATION_DEGREES))
+            if not abs(scale) < POSED_SMOKE_SCALE:
+                problems.append("scale error %.2f %% >= %g %%" % (100.0 * scale, 100.0 * POSED_SMOKE_SCALE))
+        if not (isinstance(det, (int, float)) and math.isfinite(det) and det > 0):
+            problems.append("min det J %s: folded or missing" % det)
+        if not (before > 10.0 and ratio is not None and ratio <= POSED_GOAL):
+            problems.append("posed / (scale x aligned) = %s > %.2f (start %.3f mm)" % (ratio, POSED_GOAL, before))
+    text = open(os.path.join(results_dir, "RESULTS.md")).read()
+    if "## Posed regime" not in text or "| %s | 1 |" % mesh not in text:
+        problems.append("RESULTS.md lacks the posed table's row")
+    if problems:
+        for problem in problems:
+            log("smoke check: " + problem)
+        return False
+    log("posed smoke check passed")
+    print("benchmark posed smoke check passed")
+    return True
+
+
 # ------------------------------------------------------------------------------------------------
 
 
@@ -925,6 +1313,9 @@ def parse_arguments():
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--smoke", action="store_true",
                         help="one small generated mesh, grid 8, 2 mm voxels, 1 seed, smooth regime, every method + elastix")
+    parser.add_argument("--smoke-posed", action="store_true",
+                        help="the posed regime's smoke check: a generated lobed torus, grid 8, 2 mm voxels, seed 1, "
+                        "regimes smooth and posed, method go+cpd, no peers")
     parser.add_argument("--build-dir", default=os.environ.get("FFD_BUILD_DIR", os.path.join(ROOT, "build")))
     parser.add_argument("--skip-install", action="store_true", help="do not install missing Debian packages")
     parser.add_argument("--skip-build", action="store_true", help="use the programs already in --build-dir")
@@ -952,13 +1343,25 @@ def parse_arguments():
             "(when installed: %s) and the point-set peers (when given: %s)." % (
                 "yes" if shutil.which("elastix") else "no",
                 ", ".join("%s %s" % (v, "yes" if os.environ.get(v) else "no") for v in POINT_PEERS.values())))
+    if options.smoke_posed:
+        options.smoke = True  # the smoke case's iteration counts for peers
+        options.meshes = SMOKE_POSED_MESH
+        options.regimes = "smooth,posed"
+        options.seeds = 1
+        options.first_seed = 1
+        options.methods = "go+cpd"
+        options.peers = ""
+        options.grid = 8
+        options.voxel_size = 2.0
+        options.note = options.note or ("Posed smoke run: one generated lobed torus, grid 8, 2 mm voxels, seed 1, "
+                                        "smooth and posed regimes, go+cpd.")
     options.meshes = [m for m in options.meshes.split(",") if m]
     options.regimes = [r for r in options.regimes.split(",") if r]
     options.methods = [m for m in options.methods.split(",") if m]
     options.peers = [p for p in options.peers.split(",") if p]
     for value, known, what in ((options.regimes, ALL_REGIMES, "regime"), (options.methods, ALL_METHODS, "method"),
                                (options.peers, ALL_PEERS, "peer"),
-                               (options.meshes, ALL_MESHES + [SMOKE_MESH], "mesh")):
+                               (options.meshes, ALL_MESHES + [SMOKE_MESH, SMOKE_POSED_MESH], "mesh")):
         for item in value:
             if item not in known:
                 parser.error("unknown %s '%s' (known: %s)" % (what, item, ", ".join(known)))
@@ -966,6 +1369,8 @@ def parse_arguments():
         parser.error("--seeds >= 1, --grid >= 4 and --voxel-size > 0 are required")
     options.seed_list = ", ".join(str(options.first_seed + i) for i in range(options.seeds))
     options.bcpd_options = BCPD_OPTIONS
+    options.bcpd_posed_options = BCPD_POSED_OPTIONS
+    options.pose_stage = POSE_STAGE
     options.point_peer_programs = {peer: os.environ.get(variable) or None for peer, variable in POINT_PEERS.items()}
     return options
 
@@ -988,10 +1393,15 @@ def tables_only(options):
                 setattr(options, key, data["options"][key])
             options.note = options.note or data["options"].get("note", "")
             options.bcpd_options = data["options"].get("bcpd_options", BCPD_OPTIONS)
+            options.bcpd_posed_options = data["options"].get("bcpd_posed_options", BCPD_POSED_OPTIONS)
+            options.pose_stage = data["options"].get("pose_stage", POSE_STAGE)
             options.point_peer_programs = {}
         else:
             for key in ("meshes", "regimes", "methods", "peers"):
                 getattr(options, key).extend(v for v in data["options"][key] if v not in getattr(options, key))
+            if "posed" in data["options"]["regimes"]:
+                options.bcpd_posed_options = data["options"].get("bcpd_posed_options", options.bcpd_posed_options)
+                options.pose_stage = data["options"].get("pose_stage", options.pose_stage)
         # The point-set peers' programs of the runs that had them.
         for peer, program in (data["options"].get("point_peer_programs") or {}).items():
             if program and not options.point_peer_programs.get(peer):
@@ -1092,6 +1502,8 @@ def main():
                 charts = write_charts(records, options, results_dir)
                 write_results(records, options, versions, results_dir, charts)
     log("wrote %s, %s and %d charts" % (os.path.join(results_dir, "RESULTS.md"), results_json, len(charts)))
+    if options.smoke_posed:
+        return 0 if check_smoke_posed(records, results_dir) else 1
     if options.smoke:
         return 0 if check_smoke(records, results_dir, charts) else 1
     return 0
