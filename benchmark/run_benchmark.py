@@ -276,8 +276,8 @@ def grid_spacing(target_path, grid, voxel_size):
     return [(high[d] - low[d] + 2.0 * margin) / (grid - 3) for d in range(3)]
 
 
-ELASTIX_PARAMETERS = """// B-spline registration of the unsigned distance images of the meshes (benchmark/README.md).
-(FixedInternalImagePixelType "float")
+# The parts of elastix's parameter maps that its B-spline stage and the posed regime's affine stage share.
+_ELASTIX_HEAD = """(FixedInternalImagePixelType "float")
 (MovingInternalImagePixelType "float")
 (FixedImageDimension 3)
 (MovingImageDimension 3)
@@ -289,12 +289,8 @@ ELASTIX_PARAMETERS = """// B-spline registration of the unsigned distance images
 (FixedImagePyramid "FixedSmoothingImagePyramid")
 (MovingImagePyramid "MovingSmoothingImagePyramid")
 (Optimizer "AdaptiveStochasticGradientDescent")
-(Transform "BSplineTransform")
-(Metric "AdvancedMattesMutualInformation")
-(NumberOfHistogramBins 32)
-(FinalGridSpacingInPhysicalUnits {spacing})
-(GridSpacingSchedule {schedule})
-(HowToCombineTransforms "Compose")
+"""
+_ELASTIX_SAMPLING = """(HowToCombineTransforms "Compose")
 (NumberOfResolutions {resolutions})
 (MaximumNumberOfIterations {iterations})
 (ImageSampler "RandomCoordinate")
@@ -305,50 +301,32 @@ ELASTIX_PARAMETERS = """// B-spline registration of the unsigned distance images
 (BSplineInterpolationOrder 1)
 (FinalBSplineInterpolationOrder 3)
 (AutomaticParameterEstimation "true")
-(AutomaticTransformInitialization "false")
-(DefaultPixelValue 0)
+"""
+_ELASTIX_OUTPUT = """(DefaultPixelValue 0)
 (WriteResultImage "false")
 (ResultImageFormat "mha")
 (RandomSeed {seed})
 """
 
+ELASTIX_PARAMETERS = ("// B-spline registration of the unsigned distance images of the meshes (benchmark/README.md).\n"
+                      + _ELASTIX_HEAD + """(Transform "BSplineTransform")
+(Metric "AdvancedMattesMutualInformation")
+(NumberOfHistogramBins 32)
+(FinalGridSpacingInPhysicalUnits {spacing})
+(GridSpacingSchedule {schedule})
+""" + _ELASTIX_SAMPLING + """(AutomaticTransformInitialization "false")
+""" + _ELASTIX_OUTPUT)
+
 # The affine stage that precedes the B-spline stage in the posed regime (elastix's usual affine + B-spline
 # pipeline): moving image's centre onto the fixed image's centre to start, then an affine transform.
-ELASTIX_AFFINE_PARAMETERS = """// Affine registration of the unsigned distance images, before the B-spline stage.
-(FixedInternalImagePixelType "float")
-(MovingInternalImagePixelType "float")
-(FixedImageDimension 3)
-(MovingImageDimension 3)
-(UseDirectionCosines "true")
-(Registration "MultiResolutionRegistration")
-(Interpolator "BSplineInterpolator")
-(ResampleInterpolator "FinalBSplineInterpolator")
-(Resampler "DefaultResampler")
-(FixedImagePyramid "FixedSmoothingImagePyramid")
-(MovingImagePyramid "MovingSmoothingImagePyramid")
-(Optimizer "AdaptiveStochasticGradientDescent")
-(Transform "AffineTransform")
+ELASTIX_AFFINE_PARAMETERS = ("// Affine registration of the unsigned distance images, before the B-spline stage.\n"
+                             + _ELASTIX_HEAD + """(Transform "AffineTransform")
 (Metric "AdvancedMattesMutualInformation")
 (NumberOfHistogramBins 32)
 (AutomaticScalesEstimation "true")
 (AutomaticTransformInitialization "true")
 (AutomaticTransformInitializationMethod "GeometricalCenter")
-(HowToCombineTransforms "Compose")
-(NumberOfResolutions {resolutions})
-(MaximumNumberOfIterations {iterations})
-(ImageSampler "RandomCoordinate")
-(NumberOfSpatialSamples {samples})
-(NewSamplesEveryIteration "true")
-(UseRandomSampleRegion "false")
-(ErodeMask "false")
-(BSplineInterpolationOrder 1)
-(FinalBSplineInterpolationOrder 3)
-(AutomaticParameterEstimation "true")
-(DefaultPixelValue 0)
-(WriteResultImage "false")
-(ResultImageFormat "mha")
-(RandomSeed {seed})
-"""
+""" + _ELASTIX_SAMPLING + _ELASTIX_OUTPUT)
 
 PLASTIMATCH_COMMAND = """# B-spline registration of the unsigned distance images of the meshes (benchmark/README.md).
 [GLOBAL]
