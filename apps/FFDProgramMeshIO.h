@@ -25,6 +25,7 @@
 #include "FFDProgramSupport.h"
 #include "itkMeshFileReader.h"
 #include "itkMeshFileWriter.h"
+#include "itkMeshPolygonTriangles.h"
 #include "itkTriangleCell.h"
 
 #include <algorithm>
@@ -166,20 +167,11 @@ typename TMesh::Pointer
 ScaledTriangleCopy(const TMesh * mesh, double side, MeshPlacement placement)
 {
   constexpr unsigned int Dimension = TMesh::PointDimension;
-  double                 lower[Dimension];
-  double                 upper[Dimension];
-  std::fill(lower, lower + Dimension, std::numeric_limits<double>::infinity());
-  std::fill(upper, upper + Dimension, -std::numeric_limits<double>::infinity());
-  for (auto it = mesh->GetPoints()->Begin(); it != mesh->GetPoints()->End(); ++it)
-  {
-    for (unsigned int k = 0; k < Dimension; ++k)
-    {
-      lower[k] = std::min(lower[k], static_cast<double>(it.Value()[k]));
-      upper[k] = std::max(upper[k], static_cast<double>(it.Value()[k]));
-    }
-  }
-  double largest = 0.0;
-  double anchor[Dimension];
+  const auto *           bounds = mesh->GetBoundingBox();
+  const auto             lower = bounds->GetMinimum();
+  const auto             upper = bounds->GetMaximum();
+  double                 largest = 0.0;
+  double                 anchor[Dimension];
   for (unsigned int k = 0; k < Dimension; ++k)
   {
     largest = std::max(largest, upper[k] - lower[k]);
@@ -197,24 +189,15 @@ ScaledTriangleCopy(const TMesh * mesh, double side, MeshPlacement placement)
     result->SetPoint(it.Index(), point);
   }
   typename TMesh::CellIdentifier cellId = 0;
-  for (auto it = mesh->GetCells()->Begin(); it != mesh->GetCells()->End(); ++it)
-  {
-    const auto * cell = it.Value();
-    if (cell->GetDimension() != 2 || cell->GetNumberOfPoints() < 3)
+  itk::detail::ForEachPolygonTriangle(mesh, [&](itk::IdentifierType, const typename TMesh::PointIdentifier * ids) {
+    typename TMesh::CellAutoPointer triangle;
+    triangle.TakeOwnership(new itk::TriangleCell<typename TMesh::CellType>);
+    for (unsigned int k = 0; k < 3; ++k)
     {
-      continue;
+      triangle->SetPointId(k, ids[k]);
     }
-    const auto * ids = cell->PointIdsBegin();
-    for (unsigned int i = 1; i + 1 < cell->GetNumberOfPoints(); ++i)
-    {
-      typename TMesh::CellAutoPointer triangle;
-      triangle.TakeOwnership(new itk::TriangleCell<typename TMesh::CellType>);
-      triangle->SetPointId(0, ids[0]);
-      triangle->SetPointId(1, ids[i]);
-      triangle->SetPointId(2, ids[i + 1]);
-      result->SetCell(cellId++, triangle);
-    }
-  }
+    result->SetCell(cellId++, triangle);
+  });
   return result;
 }
 } // namespace ffd

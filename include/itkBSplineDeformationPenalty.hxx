@@ -19,46 +19,13 @@
 #define itkBSplineDeformationPenalty_hxx
 
 #include "itkBSplineDeformationPenalty.h"
+#include "itkCubicBSplineKernel.h"
 #include <cmath>
 
 namespace itk
 {
 namespace detail
 {
-/** Centred cubic B-spline and its first two derivatives. */
-inline double
-CubicBSplineDerivative(double u, unsigned int order)
-{
-  const double a = std::abs(u);
-  if (a >= 2.0)
-  {
-    return 0.0;
-  }
-  const double sign = u < 0.0 ? -1.0 : 1.0;
-  if (a < 1.0)
-  {
-    switch (order)
-    {
-      case 0:
-        return 2.0 / 3.0 - a * a + 0.5 * a * a * a;
-      case 1:
-        return sign * (-2.0 * a + 1.5 * a * a);
-      default:
-        return -2.0 + 3.0 * a;
-    }
-  }
-  const double b = 2.0 - a;
-  switch (order)
-  {
-    case 0:
-      return b * b * b / 6.0;
-    case 1:
-      return -sign * 0.5 * b * b;
-    default:
-      return b;
-  }
-}
-
 /** Determinant and cofactor matrix of a 2x2 or 3x3 matrix. */
 template <unsigned int NDimensions>
 double
@@ -148,10 +115,10 @@ BSplineDeformationPenalty<TParametersValueType, NDimensions>::UpdateGramMatrices
           // Control points cell .. cell + 3 support this span (control point i sits at t = i - 1).
           for (unsigned int i = cell; i < cell + 4; ++i)
           {
-            const double bi = detail::CubicBSplineDerivative(t - (static_cast<double>(i) - 1.0), order);
+            const double bi = detail::CubicBSplineOfOrder(t - (static_cast<double>(i) - 1.0), order);
             for (unsigned int j = cell; j < cell + 4; ++j)
             {
-              const double bj = detail::CubicBSplineDerivative(t - (static_cast<double>(j) - 1.0), order);
+              const double bj = detail::CubicBSplineOfOrder(t - (static_cast<double>(j) - 1.0), order);
               gram[i * n + j] += w * bi * bj;
             }
           }
@@ -327,8 +294,8 @@ BSplineDeformationPenalty<TParametersValueType, NDimensions>::EvaluateFoldingPen
       for (unsigned int k = 0; k < support; ++k)
       {
         const double u = t - (static_cast<double>(cell + k) - 1.0);
-        values[axis][k] = detail::CubicBSplineDerivative(u, 0);
-        derivatives[axis][k] = detail::CubicBSplineDerivative(u, 1) / spacing[axis];
+        values[axis][k] = detail::CubicBSplineOfOrder(u, 0);
+        derivatives[axis][k] = detail::CubicBSplineOfOrder(u, 1) / spacing[axis];
       }
     }
     double jacobian[NDimensions][NDimensions];

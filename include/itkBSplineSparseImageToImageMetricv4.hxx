@@ -477,12 +477,7 @@ BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::ComputeSupport(con
       return false;
     }
     support.Start[i] = Math::Floor<IndexValueType>(index + 0.5 - 1.5);
-    const double t = index - static_cast<double>(support.Start[i]) - 1.0;
-    const double s = 1.0 - t;
-    support.Weights[i][0] = s * s * s / 6.0;
-    support.Weights[i][1] = (4.0 - 6.0 * t * t + 3.0 * t * t * t) / 6.0;
-    support.Weights[i][2] = (4.0 - 6.0 * s * s + 3.0 * s * s * s) / 6.0;
-    support.Weights[i][3] = t * t * t / 6.0;
+    detail::CubicBSplineWeights(index - static_cast<double>(support.Start[i]) - 1.0, support.Weights[i]);
   }
   return true;
 }

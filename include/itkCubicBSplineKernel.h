@@ -25,9 +25,10 @@ namespace itk
 namespace detail
 {
 /** \file itkCubicBSplineKernel.h
- * \brief The centred cubic B-spline kernel and its derivative, as plain inline functions for the module's hot loops
- * (the sparse B-spline metric and the MRF unary projection evaluate them per voxel and support point; ITK's
- * BSplineKernelFunction is a virtual-dispatch object).
+ * \brief The centred cubic B-spline kernel, its first two derivatives and the four weights of a support, as plain
+ * inline functions for the module's hot loops (the sparse B-spline metric, the MRF unary projection, the lattice
+ * penalty and the point-set methods evaluate them per voxel and support point; ITK's BSplineKernelFunction is a
+ * virtual-dispatch object). The module's one definition of the kernel.
  * \ingroup FFDShapeMatching
  */
 
@@ -63,6 +64,49 @@ CubicBSplineDerivative(double u)
     return (u < 0.0 ? 0.5 : -0.5) * b * b;
   }
   return 0.0;
+}
+
+/** Second derivative of CubicBSpline(). */
+inline double
+CubicBSplineSecondDerivative(double u)
+{
+  const double a = std::abs(u);
+  if (a < 1.0)
+  {
+    return -2.0 + 3.0 * a;
+  }
+  if (a < 2.0)
+  {
+    return 2.0 - a;
+  }
+  return 0.0;
+}
+
+/** CubicBSpline() (order 0), its first (1) or its second (2 or more) derivative. */
+inline double
+CubicBSplineOfOrder(double u, unsigned int order)
+{
+  switch (order)
+  {
+    case 0:
+      return CubicBSpline(u);
+    case 1:
+      return CubicBSplineDerivative(u);
+    default:
+      return CubicBSplineSecondDerivative(u);
+  }
+}
+
+/** The weights of the four control points at offsets -1, 0, 1, 2 from a point at fraction t in [0, 1) of its cell:
+ * CubicBSpline(t + 1), CubicBSpline(t), CubicBSpline(t - 1), CubicBSpline(t - 2), written for the cell. */
+inline void
+CubicBSplineWeights(double t, double weights[4])
+{
+  const double s = 1.0 - t;
+  weights[0] = s * s * s / 6.0;
+  weights[1] = (4.0 - 6.0 * t * t + 3.0 * t * t * t) / 6.0;
+  weights[2] = (4.0 - 6.0 * s * s + 3.0 * s * s * s) / 6.0;
+  weights[3] = t * t * t / 6.0;
 }
 } // namespace detail
 } // namespace itk

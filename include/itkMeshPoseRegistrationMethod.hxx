@@ -21,6 +21,7 @@
 #include "itkMeshPoseRegistrationMethod.h"
 #include "itkAffineTransform.h"
 #include "itkMath.h"
+#include "itkMeshPolygonTriangles.h"
 #include "itkMultiThreaderBase.h"
 #include "itkPointCloudKdTree.h"
 #include "itkSimilarity3DTransform.h"
@@ -111,37 +112,24 @@ SampleMeshSurface(const TMesh *                  mesh,
   }
   std::vector<std::array<Eigen::Vector3d, 3>> triangles;
   std::vector<double>                         areas;
-  if (mesh->GetCells() != nullptr)
-  {
-    for (auto it = mesh->GetCells()->Begin(); it != mesh->GetCells()->End(); ++it)
+  const auto                                  corner = [mesh, name](typename TMesh::PointIdentifier id) {
+    typename TMesh::PointType p;
+    if (!mesh->GetPoint(id, &p))
     {
-      const auto * cell = it.Value();
-      if (cell->GetNumberOfPoints() < 3)
-      {
-        continue;
-      }
-      std::vector<Eigen::Vector3d> corners;
-      for (auto id = cell->PointIdsBegin(); id != cell->PointIdsEnd(); ++id)
-      {
-        typename TMesh::PointType p;
-        if (!mesh->GetPoint(*id, &p))
-        {
-          itkGenericExceptionMacro(<< "MeshPoseRegistrationMethod: a cell of the " << name
-                                   << " mesh names a missing point (" << *id << ")");
-        }
-        corners.emplace_back(p[0], p[1], p[2]);
-      }
-      for (size_t k = 1; k + 1 < corners.size(); ++k)
-      {
-        const double area = 0.5 * (corners[k] - corners[0]).cross(corners[k + 1] - corners[0]).norm();
-        if (area > 0.0 && std::isfinite(area))
-        {
-          triangles.push_back({ corners[0], corners[k], corners[k + 1] });
-          areas.push_back(area);
-        }
-      }
+      itkGenericExceptionMacro(<< "MeshPoseRegistrationMethod: a cell of the " << name
+                               << " mesh names a missing point (" << id << ")");
     }
-  }
+    return Eigen::Vector3d(p[0], p[1], p[2]);
+  };
+  detail::ForEachPolygonTriangle(mesh, [&](IdentifierType, const typename TMesh::PointIdentifier * ids) {
+    const std::array<Eigen::Vector3d, 3> triangle{ { corner(ids[0]), corner(ids[1]), corner(ids[2]) } };
+    const double area = 0.5 * (triangle[1] - triangle[0]).cross(triangle[2] - triangle[0]).norm();
+    if (area > 0.0 && std::isfinite(area))
+    {
+      triangles.push_back(triangle);
+      areas.push_back(area);
+    }
+  });
   std::vector<Eigen::Vector3d> samples;
   samples.reserve(count);
   if (triangles.empty())

@@ -19,7 +19,7 @@
 #define itkMeshSurfaceDistanceCalculator_hxx
 
 #include "itkMeshSurfaceDistanceCalculator.h"
-#include "itkCommonEnums.h"
+#include "itkMeshPolygonTriangles.h"
 #include "itkMultiThreaderBase.h"
 #include <cmath>
 
@@ -47,23 +47,9 @@ MeshSurfaceDistanceCalculator<TSourceMesh, TTargetMesh>::ExtractTriangles(const 
     };
   };
   triangles.reserve(cells->Size());
-  for (auto it = cells->Begin(); it != cells->End(); ++it)
-  {
-    const auto * cell = it.Value();
-    const auto   type = cell->GetType();
-    if ((type != CellGeometryEnum::TRIANGLE_CELL && type != CellGeometryEnum::POLYGON_CELL &&
-         type != CellGeometryEnum::QUADRILATERAL_CELL) ||
-        cell->GetNumberOfPoints() < 3)
-    {
-      continue;
-    }
-    const auto * ids = cell->PointIdsBegin();
-    const auto   first = toVector(ids[0]);
-    for (unsigned int k = 1; k + 1 < cell->GetNumberOfPoints(); ++k)
-    {
-      triangles.push_back({ first, toVector(ids[k]), toVector(ids[k + 1]) });
-    }
-  }
+  detail::ForEachPolygonTriangle(mesh, [&](IdentifierType, const typename TMesh::PointIdentifier * ids) {
+    triangles.push_back({ toVector(ids[0]), toVector(ids[1]), toVector(ids[2]) });
+  });
   return triangles;
 }
 

@@ -19,6 +19,7 @@
 #define itkParametricTemplateTransform_h
 
 #include "itkBSplineTransform.h"
+#include "itkPrincipalComponents.h"
 #include "itkSpatialJacobianEvaluator.h"
 #include "itkTransform.h"
 #include <cctype>
@@ -260,7 +261,10 @@ public:
                              unsigned int                               numberOfComponents,
                              CoefficientVectorType &                    mean,
                              std::vector<CoefficientVectorType> &       components,
-                             std::vector<double> &                      standardDeviations);
+                             std::vector<double> &                      standardDeviations)
+  {
+    detail::ComputePrincipalComponents(examples, numberOfComponents, mean, components, standardDeviations);
+  }
 
   /** Templates = the leading principal components of example deformations (coefficient vectors of this grid),
    * each scaled by its standard deviation, so weights are in standard deviations. The base is not changed:

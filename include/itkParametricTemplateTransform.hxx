@@ -22,7 +22,9 @@
 #include "itkBSplineDecompositionImageFilter.h"
 #include "itkTransformFileChecks.h"
 #include "itkImageRegionIteratorWithIndex.h"
-#include <Eigen/SVD>
+#include "itkPrincipalComponents.h"
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/Sparse>
 #include <algorithm>
 #include <cmath>
 
@@ -274,66 +276,6 @@ ParametricTemplateTransform<TParametersValueType, NDimensions>::SetTemplatesFrom
 
 template <typename TParametersValueType, unsigned int NDimensions>
 void
-ParametricTemplateTransform<TParametersValueType, NDimensions>::ComputePrincipalComponents(
-  const std::vector<CoefficientVectorType> & examples,
-  unsigned int                               numberOfComponents,
-  CoefficientVectorType &                    mean,
-  std::vector<CoefficientVectorType> &       components,
-  std::vector<double> &                      standardDeviations)
-{
-  if (examples.size() < 2)
-  {
-    itkGenericExceptionMacro(<< "Principal components need at least two examples, got " << examples.size());
-  }
-  const std::size_t length = examples[0].size();
-  const std::size_t count = examples.size();
-  for (const auto & example : examples)
-  {
-    if (example.size() != length || length == 0)
-    {
-      itkGenericExceptionMacro(<< "The examples must be non-empty coefficient vectors of equal length");
-    }
-  }
-  mean.assign(length, 0.0);
-  for (const auto & example : examples)
-  {
-    for (std::size_t i = 0; i < length; ++i)
-    {
-      mean[i] += example[i] / static_cast<double>(count);
-    }
-  }
-  Eigen::MatrixXd centred(length, count);
-  for (std::size_t j = 0; j < count; ++j)
-  {
-    for (std::size_t i = 0; i < length; ++i)
-    {
-      centred(i, j) = examples[j][i] - mean[i];
-    }
-  }
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(centred, Eigen::ComputeThinU);
-  const auto &                            singularValues = svd.singularValues();
-  const auto &                            u = svd.matrixU();
-  components.clear();
-  standardDeviations.clear();
-  const double largest = singularValues.size() > 0 ? singularValues[0] : 0.0;
-  for (Eigen::Index k = 0; k < singularValues.size() && components.size() < numberOfComponents; ++k)
-  {
-    if (!(singularValues[k] > 1e-12 * largest) || largest == 0.0)
-    {
-      break;
-    }
-    CoefficientVectorType component(length);
-    for (std::size_t i = 0; i < length; ++i)
-    {
-      component[i] = u(static_cast<Eigen::Index>(i), k);
-    }
-    components.push_back(std::move(component));
-    standardDeviations.push_back(singularValues[k] / std::sqrt(static_cast<double>(count - 1)));
-  }
-}
-
-template <typename TParametersValueType, unsigned int NDimensions>
-void
 ParametricTemplateTransform<TParametersValueType, NDimensions>::SetTemplatesFromPrincipalComponents(
   const std::vector<CoefficientVectorType> & examples,
   unsigned int                               numberOfComponents)
@@ -453,94 +395,34 @@ ParametricTemplateTransform<TParametersValueType, NDimensions>::ProjectCoefficie
     itkExceptionMacro(<< "Got " << coefficients.size() << " coefficients; the grid has "
                       << this->GetNumberOfCoefficients());
   }
-  const SizeValueType numberOfTemplates = m_Templates.size();
-  // Right-hand side A^T (c - base), Jacobi preconditioner diag(A^T A).
-  CoefficientVectorType residualTarget = coefficients;
+  // The templates as the columns of a sparse matrix A; the weights solve min |A w - (c - base)|.
+  const SizeValueType                 numberOfTemplates = m_Templates.size();
+  std::vector<Eigen::Triplet<double>> entries;
+  Eigen::VectorXd                     target =
+    Eigen::Map<const Eigen::VectorXd>(coefficients.data(), static_cast<Eigen::Index>(coefficients.size()));
   for (SizeValueType i = 0; i < m_Base.Indices.size(); ++i)
   {
-    residualTarget[m_Base.Indices[i]] -= m_Base.Values[i];
+    target[static_cast<Eigen::Index>(m_Base.Indices[i])] -= m_Base.Values[i];
   }
-  const auto applyTranspose = [this](const CoefficientVectorType & vector, std::vector<double> & result) {
-    for (SizeValueType k = 0; k < m_Templates.size(); ++k)
-    {
-      double sum = 0.0;
-      for (SizeValueType i = 0; i < m_Templates[k].Indices.size(); ++i)
-      {
-        sum += m_Templates[k].Values[i] * vector[m_Templates[k].Indices[i]];
-      }
-      result[k] = sum;
-    }
-  };
-  const auto applyNormal = [this, &applyTranspose](const std::vector<double> & weights, std::vector<double> & result) {
-    CoefficientVectorType combined(this->GetNumberOfCoefficients(), 0.0);
-    for (SizeValueType k = 0; k < m_Templates.size(); ++k)
-    {
-      for (SizeValueType i = 0; i < m_Templates[k].Indices.size(); ++i)
-      {
-        combined[m_Templates[k].Indices[i]] += weights[k] * m_Templates[k].Values[i];
-      }
-    }
-    applyTranspose(combined, result);
-  };
-  std::vector<double> rightHandSide(numberOfTemplates);
-  applyTranspose(residualTarget, rightHandSide);
-  std::vector<double> diagonal(numberOfTemplates, 0.0);
   for (SizeValueType k = 0; k < numberOfTemplates; ++k)
   {
-    for (const double value : m_Templates[k].Values)
+    for (SizeValueType i = 0; i < m_Templates[k].Indices.size(); ++i)
     {
-      diagonal[k] += value * value;
+      entries.emplace_back(
+        static_cast<Eigen::Index>(m_Templates[k].Indices[i]), static_cast<Eigen::Index>(k), m_Templates[k].Values[i]);
     }
   }
-  std::vector<double> weights(numberOfTemplates, 0.0);
-  std::vector<double> residual = rightHandSide;
-  std::vector<double> preconditioned(numberOfTemplates);
-  std::vector<double> direction(numberOfTemplates);
-  std::vector<double> product(numberOfTemplates);
-  double              rz = 0.0;
-  double              initialNorm = 0.0;
-  for (SizeValueType k = 0; k < numberOfTemplates; ++k)
-  {
-    preconditioned[k] = diagonal[k] > 0.0 ? residual[k] / diagonal[k] : 0.0;
-    direction[k] = preconditioned[k];
-    rz += residual[k] * preconditioned[k];
-    initialNorm += residual[k] * residual[k];
-  }
-  for (unsigned int iteration = 0; iteration < 500 && rz > 0.0; ++iteration)
-  {
-    applyNormal(direction, product);
-    double curvature = 0.0;
-    for (SizeValueType k = 0; k < numberOfTemplates; ++k)
-    {
-      curvature += direction[k] * product[k];
-    }
-    if (!(curvature > 0.0))
-    {
-      break;
-    }
-    const double step = rz / curvature;
-    double       residualNorm = 0.0;
-    double       nextRz = 0.0;
-    for (SizeValueType k = 0; k < numberOfTemplates; ++k)
-    {
-      weights[k] += step * direction[k];
-      residual[k] -= step * product[k];
-      residualNorm += residual[k] * residual[k];
-      preconditioned[k] = diagonal[k] > 0.0 ? residual[k] / diagonal[k] : 0.0;
-      nextRz += residual[k] * preconditioned[k];
-    }
-    if (residualNorm <= 1e-28 * initialNorm)
-    {
-      break;
-    }
-    for (SizeValueType k = 0; k < numberOfTemplates; ++k)
-    {
-      direction[k] = preconditioned[k] + (nextRz / rz) * direction[k];
-    }
-    rz = nextRz;
-  }
-  ParametersType result(numberOfTemplates);
-  std::copy(weights.begin(), weights.end(), result.begin());
+  Eigen::SparseMatrix<double> templates(static_cast<Eigen::Index>(coefficients.size()),
+                                        static_cast<Eigen::Index>(numberOfTemplates));
+  templates.setFromTriplets(entries.begin(), entries.end());
+  // Conjugate gradients on the normal equations with the Jacobi preconditioner diag(A^T A).
+  Eigen::LeastSquaresConjugateGradient<Eigen::SparseMatrix<double>> solver;
+  solver.setMaxIterations(500);
+  solver.setTolerance(1e-14);
+  solver.compute(templates);
+  const Eigen::VectorXd weights = solver.solve(target);
+  ParametersType        result(numberOfTemplates);
+  std::copy(weights.data(), weights.data() + weights.size(), result.begin());
   return result;
 }
 

@@ -23,6 +23,7 @@
 #include "itkImageRegionIteratorWithIndex.h"
 #include "itkImageScanlineIterator.h"
 #include "itkMath.h"
+#include "itkMeshPolygonTriangles.h"
 #include "itkTotalProgressReporter.h"
 
 #include <algorithm>
@@ -542,55 +543,30 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::BuildTriangleHierarchy
     const auto & p = points->ElementAt(id);
     return VectorType{ static_cast<double>(p[0]), static_cast<double>(p[1]), static_cast<double>(p[2]) };
   };
-  for (auto it = cells->Begin(); it != cells->End(); ++it)
-  {
-    const auto * cell = it.Value();
-    if (cell == nullptr)
+  const auto visit = [&](SizeValueType cellId, const typename InputMeshType::PointIdentifier * ids) {
+    const TriangleType triangle{ toVector(ids[0], cellId), toVector(ids[1], cellId), toVector(ids[2], cellId) };
+    double             ab[3];
+    double             ac[3];
+    for (unsigned int k = 0; k < 3; ++k)
     {
-      continue;
+      ab[k] = triangle.b[k] - triangle.a[k];
+      ac[k] = triangle.c[k] - triangle.a[k];
     }
-    const unsigned int dimension = cell->GetDimension();
-    if (dimension < 2)
+    const double n0 = ab[1] * ac[2] - ab[2] * ac[1];
+    const double n1 = ab[2] * ac[0] - ab[0] * ac[2];
+    const double n2 = ab[0] * ac[1] - ab[1] * ac[0];
+    if (n0 == 0.0 && n1 == 0.0 && n2 == 0.0)
     {
-      continue; // Vertices and lines have no area.
+      ++numberOfDegenerate;
+      return;
     }
-    if (dimension > 2)
+    triangles.push_back(triangle);
+    if (needInside)
     {
-      itkExceptionMacro("Cell " << it.Index() << " of the input mesh is a volume cell (" << cell->GetNumberOfPoints()
-                                << " points): only triangle and polygon cells are supported.");
+      corners.push_back({ { vertexOf(ids[0]), vertexOf(ids[1]), vertexOf(ids[2]) } });
     }
-    const auto numberOfPoints = static_cast<unsigned int>(cell->GetNumberOfPoints());
-    if (numberOfPoints < 3)
-    {
-      continue;
-    }
-    const auto *     ids = cell->PointIdsBegin();
-    const VectorType first = toVector(ids[0], it.Index());
-    for (unsigned int i = 1; i + 1 < numberOfPoints; ++i)
-    {
-      const TriangleType triangle{ first, toVector(ids[i], it.Index()), toVector(ids[i + 1], it.Index()) };
-      double             ab[3];
-      double             ac[3];
-      for (unsigned int k = 0; k < 3; ++k)
-      {
-        ab[k] = triangle.b[k] - triangle.a[k];
-        ac[k] = triangle.c[k] - triangle.a[k];
-      }
-      const double n0 = ab[1] * ac[2] - ab[2] * ac[1];
-      const double n1 = ab[2] * ac[0] - ab[0] * ac[2];
-      const double n2 = ab[0] * ac[1] - ab[1] * ac[0];
-      if (n0 == 0.0 && n1 == 0.0 && n2 == 0.0)
-      {
-        ++numberOfDegenerate;
-        continue;
-      }
-      triangles.push_back(triangle);
-      if (needInside)
-      {
-        corners.push_back({ { vertexOf(ids[0]), vertexOf(ids[i]), vertexOf(ids[i + 1]) } });
-      }
-    }
-  }
+  };
+  detail::ForEachPolygonTriangle(mesh, visit, true);
   m_NumberOfDegenerateTriangles = numberOfDegenerate;
   m_NumberOfTriangles = triangles.size();
   if (triangles.empty())

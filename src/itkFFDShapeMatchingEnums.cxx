@@ -174,6 +174,7 @@ operator<<(std::ostream & out, const FFDShapeMatchingEnums::Optimizer value)
     return "INVALID VALUE FOR itk::FFDShapeMatchingEnums::Optimizer";
   }();
 }
+
 std::ostream &
 operator<<(std::ostream & out, const FFDShapeMatchingEnums::Voxelization value)
 {

@@ -1,0 +1,577 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#include "itkVTKSurfaceFileChecks.h"
+
+#include "itkByteSwapper.h"
+#include "itksys/SystemTools.hxx"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <vector>
+
+namespace itk
+{
+namespace detail
+{
+/** The problem of a binary STL file whose size does not fit its triangle count, or "". An ASCII
+ * file (as vtkSTLReader classifies it) is left to vtkSTLReader's parser. */
+std::string
+CheckSTLFile(const std::string & fileName)
+{
+  const unsigned long fileSize = itksys::SystemTools::FileLength(fileName);
+  if (itksys::SystemTools::DetectFileType(fileName.c_str()) == itksys::SystemTools::FileTypeText)
+  {
+    return "";
+  }
+  constexpr unsigned long headerSize = 84; // 80-byte comment, 32-bit triangle count
+  constexpr unsigned long triangleSize = 50;
+  if (fileSize < headerSize)
+  {
+    return "a binary STL file needs an 84-byte header, the file has " + std::to_string(fileSize) + " bytes";
+  }
+  std::ifstream file(fileName, std::ios::binary);
+  unsigned char header[headerSize];
+  file.read(reinterpret_cast<char *>(header), headerSize);
+  if (!file)
+  {
+    return "cannot read the 84-byte binary STL header";
+  }
+  // The triangle count is little-endian, whatever the machine.
+  const unsigned long numberOfTriangles =
+    static_cast<unsigned long>(header[80]) | (static_cast<unsigned long>(header[81]) << 8) |
+    (static_cast<unsigned long>(header[82]) << 16) | (static_cast<unsigned long>(header[83]) << 24);
+  const unsigned long long neededSize =
+    headerSize + static_cast<unsigned long long>(triangleSize) * static_cast<unsigned long long>(numberOfTriangles);
+  if (fileSize < neededSize)
+  {
+    return "truncated binary STL file: its header announces " + std::to_string(numberOfTriangles) +
+           " triangles, which need " + std::to_string(neededSize) + " bytes, the file has " + std::to_string(fileSize) +
+           " bytes";
+  }
+  return "";
+}
+
+namespace
+{
+/** Size in bytes of a PLY scalar type, 0 for an unknown type name. */
+unsigned int
+PLYTypeSize(const std::string & type)
+{
+  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8")
+  {
+    return 1;
+  }
+  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16")
+  {
+    return 2;
+  }
+  if (type == "int" || type == "uint" || type == "int32" || type == "uint32" || type == "float" || type == "float32")
+  {
+    return 4;
+  }
+  if (type == "double" || type == "float64")
+  {
+    return 8;
+  }
+  return 0;
+}
+
+/** Decodes one binary PLY value of the given type at data. */
+double
+DecodePLYValue(const char * data, const std::string & type, bool bigEndian)
+{
+  const unsigned int size = std::min(PLYTypeSize(type), 8u); // PLY scalars have at most 8 bytes
+  char               bytes[8];
+  std::copy(data, data + size, bytes);
+  const bool systemIsBigEndian = ByteSwapper<int>::SystemIsBigEndian();
+  if (bigEndian != systemIsBigEndian)
+  {
+    std::reverse(bytes, bytes + size);
+  }
+  auto as = [&bytes](auto value) {
+    std::memcpy(&value, bytes, sizeof(value));
+    return static_cast<double>(value);
+  };
+  if (type == "char" || type == "int8")
+  {
+    return as(int8_t{});
+  }
+  if (type == "uchar" || type == "uint8")
+  {
+    return as(uint8_t{});
+  }
+  if (type == "short" || type == "int16")
+  {
+    return as(int16_t{});
+  }
+  if (type == "ushort" || type == "uint16")
+  {
+    return as(uint16_t{});
+  }
+  if (type == "int" || type == "int32")
+  {
+    return as(int32_t{});
+  }
+  if (type == "uint" || type == "uint32")
+  {
+    return as(uint32_t{});
+  }
+  if (type == "float" || type == "float32")
+  {
+    return as(float{});
+  }
+  return as(double{});
+}
+
+/** Longest line VTK's PLY reader reads as one line (its line buffer, less the end of line): a longer line is cut,
+ * and the rest read as the next line. */
+constexpr std::string::size_type MaximumPLYLineLength = 4094;
+
+/** Splits a PLY line into words the way VTK's PLY reader does: words are separated by spaces and tabs only (a
+ * vertical tab or a form feed is part of a word), a carriage return ends the line. */
+std::vector<std::string>
+SplitPLYLine(const std::string & line)
+{
+  std::vector<std::string> words;
+  std::string              word;
+  for (const char character : line)
+  {
+    if (character == '\r')
+    {
+      break;
+    }
+    if (character == ' ' || character == '\t')
+    {
+      if (!word.empty())
+      {
+        words.push_back(word);
+        word.clear();
+      }
+    }
+    else
+    {
+      word += character;
+    }
+  }
+  if (!word.empty())
+  {
+    words.push_back(word);
+  }
+  return words;
+}
+
+} // namespace
+
+/** Checks the structure of a PLY file before VTK reads it (VTK's PLY code crashes on a file
+ * shorter than its header announces, and accepts faces on missing vertices): the signature,
+ * the header (format, elements, property types, end_header), a vertex element with x, y and
+ * z, the presence of every value the header announces, and the range of the face vertex
+ * indices. Returns the problem, or "". */
+std::string
+CheckPLYFile(const std::string & fileName)
+{
+  struct Property
+  {
+    bool        IsList{ false };
+    std::string CountType;
+    std::string Type;
+    std::string Name;
+  };
+  struct Element
+  {
+    std::string           Name;
+    unsigned long long    Count{ 0 };
+    std::vector<Property> Properties;
+  };
+
+  std::ifstream     file(fileName, std::ios::binary);
+  const std::string content((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  if (content.compare(0, 4, "ply\n") != 0 && content.compare(0, 5, "ply\r\n") != 0)
+  {
+    return "not a PLY file (it does not start with the line \"ply\")";
+  }
+
+  // The header.
+  std::string::size_type position = 0;
+  std::string            format;
+  std::vector<Element>   elements;
+  bool                   endOfHeader = false;
+  for (unsigned int lineNumber = 1; !endOfHeader; ++lineNumber)
+  {
+    const std::string::size_type endOfLine = content.find('\n', position);
+    if (endOfLine == std::string::npos)
+    {
+      return "the PLY header has no end_header line";
+    }
+    const std::string text = content.substr(position, endOfLine - position);
+    position = endOfLine + 1;
+    const std::string where = "PLY header line " + std::to_string(lineNumber) + ": ";
+    if (text.size() > MaximumPLYLineLength || text.find('\0') != std::string::npos)
+    {
+      return where + "longer than " + std::to_string(MaximumPLYLineLength) + " characters or holding a NUL byte";
+    }
+    const std::vector<std::string> words = SplitPLYLine(text);
+    // The i-th word after the keyword, or "" when the line has fewer words.
+    auto              word = [&words](std::size_t i) { return i < words.size() ? words[i] : std::string(); };
+    const std::string keyword = word(0);
+    if (lineNumber == 1 || keyword.empty() || keyword == "comment" || keyword == "obj_info")
+    {
+      continue;
+    }
+    if (keyword == "format")
+    {
+      format = word(1);
+      if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
+      {
+        return where + "unknown format \"" + format + "\"";
+      }
+    }
+    else if (keyword == "element")
+    {
+      Element           element;
+      const std::string count = word(2);
+      element.Name = word(1);
+      if (element.Name.empty() || count.empty() || count.find_first_not_of("0123456789") != std::string::npos)
+      {
+        return where + "an element needs a name and a count";
+      }
+      // VTK counts elements in an int.
+      if (count.size() > 10 || std::stoull(count) > static_cast<unsigned long long>(std::numeric_limits<int>::max()))
+      {
+        return where + "an element count of " + count + ", more than a PLY reader can count";
+      }
+      element.Count = std::stoull(count);
+      elements.push_back(element);
+    }
+    else if (keyword == "property")
+    {
+      if (elements.empty())
+      {
+        return where + "a property before any element";
+      }
+      Property    property;
+      std::size_t next = 1;
+      property.Type = word(next++);
+      if (property.Type == "list")
+      {
+        property.IsList = true;
+        property.CountType = word(next++);
+        property.Type = word(next++);
+        if (PLYTypeSize(property.CountType) == 0 || property.CountType == "float" || property.CountType == "float32" ||
+            property.CountType == "double" || property.CountType == "float64")
+        {
+          return where + "a list count of type \"" + property.CountType + "\"";
+        }
+      }
+      property.Name = word(next);
+      if (PLYTypeSize(property.Type) == 0 || property.Name.empty())
+      {
+        return where + "a property of unknown type \"" + property.Type + "\" or without a name";
+      }
+      elements.back().Properties.push_back(property);
+    }
+    else if (keyword == "end_header")
+    {
+      endOfHeader = true;
+    }
+    else
+    {
+      return where + "unknown keyword \"" + keyword + "\"";
+    }
+  }
+  if (format.empty())
+  {
+    return "the PLY header has no format line";
+  }
+  const auto vertexElement =
+    std::find_if(elements.begin(), elements.end(), [](const Element & element) { return element.Name == "vertex"; });
+  if (vertexElement == elements.end())
+  {
+    return "the PLY header declares no vertex element";
+  }
+  for (const char * coordinate : { "x", "y", "z" })
+  {
+    if (std::none_of(
+          vertexElement->Properties.begin(), vertexElement->Properties.end(), [coordinate](const Property & property) {
+            return !property.IsList && property.Name == coordinate;
+          }))
+    {
+      return std::string("the PLY vertex element has no property ") + coordinate;
+    }
+  }
+  for (const Element & element : elements)
+  {
+    if (element.Name == "face" && element.Count > 0 &&
+        std::none_of(element.Properties.begin(), element.Properties.end(), [](const Property & property) {
+          return property.IsList && property.Name == "vertex_indices";
+        }))
+    {
+      return "the PLY face element has no list property vertex_indices";
+    }
+  }
+  const double numberOfVertices = static_cast<double>(vertexElement->Count);
+
+  // The body: every announced value present, face vertex indices in range. ASCII data is checked the way VTK's
+  // PLY reader reads it (VTK frees memory twice on some ASCII files that other readers would accept): each element
+  // on a line of its own, words separated by spaces and tabs only, exactly as many words as its properties need.
+  const bool               ascii = format == "ascii";
+  const bool               bigEndian = format == "binary_big_endian";
+  const char *             data = content.data() + position;
+  const char *             end = content.data() + content.size();
+  std::vector<std::string> lineWords; // ASCII: the words of the current element's line not read yet
+  std::size_t              nextWord = 0;
+  // ASCII: moves to the next line; false at the end of the data or on a line VTK would not read as one line.
+  auto readLine = [&data, end, &lineWords, &nextWord]() -> bool {
+    if (data >= end)
+    {
+      return false;
+    }
+    const char *      endOfLine = std::find(data, end, '\n');
+    const std::string text(data, endOfLine);
+    data = endOfLine == end ? end : endOfLine + 1;
+    if (text.size() > MaximumPLYLineLength || text.find('\0') != std::string::npos)
+    {
+      return false;
+    }
+    lineWords = SplitPLYLine(text);
+    nextWord = 0;
+    return true;
+  };
+  // Reads the next value; false at the end of the data (ASCII: of the element's line) or on a malformed number.
+  auto readValue = [&data, end, ascii, bigEndian, &lineWords, &nextWord](const std::string & type,
+                                                                         double &            value) -> bool {
+    if (ascii)
+    {
+      if (nextWord >= lineWords.size())
+      {
+        return false;
+      }
+      const std::string & token = lineWords[nextWord++];
+      char *              parsedEnd = nullptr;
+      value = std::strtod(token.c_str(), &parsedEnd);
+      return parsedEnd == token.c_str() + token.size();
+    }
+    const unsigned int size = PLYTypeSize(type);
+    if (end - data < static_cast<std::ptrdiff_t>(size))
+    {
+      return false;
+    }
+    value = DecodePLYValue(data, type, bigEndian);
+    data += size;
+    return true;
+  };
+  for (const Element & element : elements)
+  {
+    const bool isFace = element.Name == "face";
+    for (unsigned long long i = 0; i < element.Count; ++i)
+    {
+      // The problem's text, made only when there is one (this loop runs once per vertex and face).
+      const auto where = [&element, i, ascii]() {
+        return (ascii ? "ASCII" : "binary") + std::string(" PLY data ends or is malformed in ") + element.Name + " " +
+               std::to_string(i) + " of " + std::to_string(element.Count);
+      };
+      if (ascii && !readLine())
+      {
+        return where();
+      }
+      for (const Property & property : element.Properties)
+      {
+        double value = 0.0;
+        if (!property.IsList)
+        {
+          if (!readValue(property.Type, value))
+          {
+            return where();
+          }
+          continue;
+        }
+        double count = 0.0;
+        if (!readValue(property.CountType, count) || count < 0.0 || count != std::floor(count))
+        {
+          return where();
+        }
+        const bool isIndexList = isFace && property.Name == "vertex_indices";
+        for (double j = 0; j < count; ++j)
+        {
+          if (!readValue(property.Type, value))
+          {
+            return where();
+          }
+          if (isIndexList && (value < 0.0 || value >= numberOfVertices || value != std::floor(value)))
+          {
+            std::ostringstream problem;
+            problem << "PLY face " << i << " refers to vertex " << value << " of " << vertexElement->Count;
+            return problem.str();
+          }
+        }
+      }
+      if (ascii && nextWord != lineWords.size())
+      {
+        return "ASCII PLY " + element.Name + " " + std::to_string(i) + " of " + std::to_string(element.Count) +
+               " has " + std::to_string(lineWords.size()) + " values on its line, its properties need " +
+               std::to_string(nextWord);
+      }
+    }
+  }
+  return "";
+}
+
+namespace
+{
+/** The deepest nesting of XML elements a VTP file may have: VTK's files use 5-8 levels (VTKFile, PolyData, Piece,
+ * Points, DataArray, InformationKey, ...). VTK's expat-based parser recurses per level and overflows the stack
+ * somewhere between 100 000 and 300 000 levels. */
+constexpr std::size_t MaximumVTPNestingDepth = 256;
+
+/** The nesting depth of the XML elements in content (comments, CDATA, processing instructions and declarations
+ * skipped, quoted attribute values honoured), scanned up to the <AppendedData> element, whose raw binary data is
+ * not XML; the scan stops as soon as the depth passes limit. */
+std::size_t
+XMLNestingDepth(const std::string & content, std::size_t limit)
+{
+  std::size_t depth = 0;
+  std::size_t deepest = 0;
+  std::size_t at = content.find('<');
+  const auto  skipPast = [&](const char * end, std::size_t from) {
+    const std::size_t found = content.find(end, from);
+    return found == std::string::npos ? std::string::npos : found + std::strlen(end);
+  };
+  while (at != std::string::npos && at + 1 < content.size())
+  {
+    if (content.compare(at, 4, "<!--") == 0)
+    {
+      at = skipPast("-->", at + 4);
+    }
+    else if (content.compare(at, 9, "<![CDATA[") == 0)
+    {
+      at = skipPast("]]>", at + 9);
+    }
+    else if (content[at + 1] == '?' || content[at + 1] == '!')
+    {
+      at = skipPast(">", at + 2);
+    }
+    else if (content[at + 1] == '/')
+    {
+      depth -= depth > 0 ? 1 : 0;
+      at = skipPast(">", at + 2);
+    }
+    else
+    {
+      if (content.compare(at + 1, 12, "AppendedData") == 0)
+      {
+        break;
+      }
+      // The end of the tag: a '>' outside quoted attribute values; "/>" closes an empty element.
+      std::size_t end = at + 1;
+      char        quote = 0;
+      for (; end < content.size(); ++end)
+      {
+        const char c = content[end];
+        if (quote != 0)
+        {
+          quote = c == quote ? 0 : quote;
+        }
+        else if (c == '"' || c == '\'')
+        {
+          quote = c;
+        }
+        else if (c == '>')
+        {
+          break;
+        }
+      }
+      if (end >= content.size())
+      {
+        break;
+      }
+      if (content[end - 1] != '/')
+      {
+        deepest = std::max(deepest, ++depth);
+        if (deepest > limit)
+        {
+          break;
+        }
+      }
+      at = end + 1;
+    }
+    at = at == std::string::npos ? at : content.find('<', at);
+  }
+  return deepest;
+}
+
+} // namespace
+
+/** Checks what VTK's XML PolyData reader does not check before it uses it: the XML must not nest deeper than
+ * MaximumVTPNestingDepth (VTK's parser would overflow the stack), and the points' array must have 3
+ * components (VTK 9.1 leaks the arrays it read when it has another number). A light scan of the first <Points>
+ * element's first <DataArray> tag; everything else (XML syntax, data, encodings) is left to VTK's reader, which
+ * reports it. Returns the problem, or "". */
+std::string
+CheckVTPFile(const std::string & fileName)
+{
+  std::ifstream     file(fileName, std::ios::binary);
+  const std::string content((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const std::size_t depth = XMLNestingDepth(content, MaximumVTPNestingDepth);
+  if (depth > MaximumVTPNestingDepth)
+  {
+    return "its XML nests elements more than " + std::to_string(MaximumVTPNestingDepth) +
+           " levels deep (a VTP file needs fewer than 10): refused, as VTK's XML parser would overflow the stack";
+  }
+  std::string::size_type points = content.find("<Points");
+  while (points != std::string::npos && points + 7 < content.size() && content[points + 7] != '>' &&
+         !std::isspace(static_cast<unsigned char>(content[points + 7])))
+  {
+    points = content.find("<Points", points + 7); // e.g. <PointsSomething: not the element
+  }
+  if (points == std::string::npos)
+  {
+    return "";
+  }
+  const std::string::size_type array = content.find("<DataArray", points);
+  const std::string::size_type pointsEnd = content.find("</Points", points);
+  if (array == std::string::npos || (pointsEnd != std::string::npos && pointsEnd < array))
+  {
+    return "";
+  }
+  const std::string::size_type tagEnd = content.find('>', array);
+  const std::string tag = content.substr(array, tagEnd == std::string::npos ? std::string::npos : tagEnd - array);
+  std::string       components = "1"; // VTK's default when the attribute is missing
+  const std::string attribute = "NumberOfComponents=";
+  const std::string::size_type at = tag.find(attribute);
+  if (at != std::string::npos && at + attribute.size() < tag.size())
+  {
+    const char                   quote = tag[at + attribute.size()];
+    const std::string::size_type valueEnd = tag.find(quote, at + attribute.size() + 1);
+    components = tag.substr(at + attribute.size() + 1,
+                            valueEnd == std::string::npos ? std::string::npos : valueEnd - at - attribute.size() - 1);
+  }
+  if (components != "3")
+  {
+    return "the points' DataArray has NumberOfComponents=\"" + components.substr(0, 20) + "\", not 3";
+  }
+  return "";
+}
+} // namespace detail
+} // namespace itk

@@ -1,0 +1,51 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkVTKSurfaceFileChecks_h
+#define itkVTKSurfaceFileChecks_h
+
+/** \file itkVTKSurfaceFileChecks.h
+ * \brief Private checks of the module library (not installed): what VTK's STL, PLY and XML PolyData readers do not
+ * check before they use it (sizes, counts, indices, nesting), run on a file before VTK reads it, so that a damaged
+ * file gives a clear error instead of a crash, a leak or a mesh with faces on missing vertices.
+ *
+ * Each returns the problem found in one line, or "" when the file may be given to VTK's reader.
+ *
+ * \ingroup FFDShapeMatching
+ */
+
+#include <string>
+
+namespace itk
+{
+namespace detail
+{
+/** The problem of a binary STL file whose size does not fit its triangle count, or "". */
+std::string
+CheckSTLFile(const std::string & fileName);
+
+/** The problem of a PLY file's structure (signature, header, announced values, face vertex indices), or "". */
+std::string
+CheckPLYFile(const std::string & fileName);
+
+/** The problem of a VTP file that nests too deep or whose points do not have 3 components, or "". */
+std::string
+CheckVTPFile(const std::string & fileName);
+} // namespace detail
+} // namespace itk
+
+#endif // itkVTKSurfaceFileChecks_h
