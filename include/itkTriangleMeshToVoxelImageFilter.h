@@ -20,8 +20,7 @@
 
 #include "itkImageSource.h"
 #include "itkImageBase.h"
-#include "itkScanLineWindingNumber.h"
-#include "itkTriangleBoundingVolumeHierarchy.h"
+#include "itkScanLineTriangleSet.h"
 
 #include <array>
 #include <atomic>
@@ -364,10 +363,6 @@ private:
   bool
   IsInside(double windingNumber) const;
 
-  /** True when the winding-number interval [value - radius, value + radius] lies on one side of the thresholds. */
-  bool
-  IsDecided(double value, double radius) const;
-
   /** Triangles in continuous-index space and the scan-line bins of the requested region's rows. */
   void
   PrepareScanLines();
@@ -386,22 +381,6 @@ private:
    * path, so the image does not depend on the order, the threads or the streamed pieces). */
   void
   GenerateReachByTriangles(const OutputImageRegionType & region);
-
-  /** Inside flags of voxels first, ..., first + inside.size() - 1 of the row (j, k). */
-  void
-  ComputeRowInside(long first, long j, long k, std::vector<char> & inside) const;
-
-  /** Exact squared distances from the voxels of the row (j, k) (physical centres in points) to the closest
-   * triangle, for the voxels within radius of a triangle (infinity elsewhere). With anyWithin, a voxel stops
-   * at the first triangle within radius. */
-  void
-  ComputeRowSquaredDistances(long                                                                     first,
-                             long                                                                     j,
-                             long                                                                     k,
-                             double                                                                   radius,
-                             bool                                                                     anyWithin,
-                             const std::vector<detail::TriangleBoundingVolumeHierarchy::VectorType> & points,
-                             std::vector<double> & squaredDistances) const;
 
   /** True when this update runs row by row (GenerateByScanLines()). */
   bool
@@ -444,21 +423,10 @@ private:
   SizeValueType m_NumberOfTriangles{ 0 };
   SizeValueType m_NumberOfDegenerateTriangles{ 0 };
 
-  std::vector<detail::TriangleBoundingVolumeHierarchy::Triangle> m_Triangles{};
-  mutable detail::TriangleBoundingVolumeHierarchy                m_Hierarchy{};
-  mutable std::atomic<bool>                                      m_HierarchyBuilt{ false };
-  mutable std::mutex                                             m_HierarchyMutex{};
-  bool                                                           m_HierarchyIsCurrent{ false };
-  double                                                         m_EffectiveOccupancyDistance{ 0.0 };
-  double                                                         m_EffectiveBandWidth{ 0.0 };
-
-  detail::WindingNumberGradientBound      m_GradientBound{};
-  std::vector<detail::IndexSpaceTriangle> m_IndexTriangles{};
-  detail::ScanLineTriangleBins            m_CrossingBins{};
-  detail::ScanLineTriangleBins            m_ReachBins{};
-  std::array<double, 3>                   m_ReachMargin{ { 0.0, 0.0, 0.0 } };
-  std::vector<std::uint32_t>              m_RegionTriangles{}; // Reaching the requested region (occupancy, band).
-  int                                     m_OrientationSign{ 1 };
+  detail::ScanLineTriangleSet m_TriangleSet{};
+  bool                        m_HierarchyIsCurrent{ false };
+  double                      m_EffectiveOccupancyDistance{ 0.0 };
+  double                      m_EffectiveBandWidth{ 0.0 };
 };
 } // namespace itk
 
