@@ -20,6 +20,7 @@
 
 #include "itkBSplineMRFImageRegistrationMethodEnums.h"
 #include "itkBSplineImageRegistrationMethodBase.h"
+#include "itkBSplineMRFUnaryCosts.h"
 #include "itkMRFLabelingSolver.h"
 #include <array>
 #include <vector>
@@ -277,29 +278,8 @@ protected:
 private:
   using InternalImagePointer = typename InternalImageType::Pointer;
 
-  /** A used fixed voxel of a level: its intensity, grid position and base moving continuous index. */
-  struct Voxel
-  {
-    float    FixedValue;
-    uint32_t Index[3];
-    float    BaseMovingIndex[3];
-  };
-
-  /** Everything about a level's voxels and grid that does not change during the level. */
-  struct LevelData
-  {
-    std::vector<Voxel>                 Voxels;
-    std::array<std::vector<int>, 3>    WeightStart;
-    std::array<std::vector<double>, 3> Weights; // 4 per image index
-    std::array<unsigned int, 3>        ImageSize{};
-    std::array<unsigned int, 3>        GridSize{};
-    double                             MovingIndexPerMM[3][3]{};
-    const float *                      MovingBuffer{ nullptr };
-    std::array<unsigned int, 3>        MovingSize{};
-    std::vector<double>                SupportWeight; // sum of w_p over the used voxels, per control point
-    std::vector<double>                FixedMoments;  // sum of w_p f and w_p f^2 (NCC)
-    std::vector<uint8_t>               RowUsed;       // per (y, z) row of the image
-  };
+  using Voxel = detail::BSplineMRFUnaryCosts::Voxel;
+  using LevelData = detail::BSplineMRFUnaryCosts::LevelData;
 
   void
   PrepareLevel(const InternalImageType *    fixed,
@@ -313,26 +293,17 @@ private:
                        const BSplineTransformType * transform,
                        std::vector<float> &         indices) const;
 
-  void
-  BuildHistogramCosts(const LevelData & level, const std::vector<float> & indices);
-
-  /** Unary costs of the labels; with stopAtTimeLimit, an empty vector once MaximumRunTime has passed (checked before
-   * each label). */
+  /** Unary costs of the labels (BSplineMRFUnaryCosts::ComputeUnaries()); with stopAtTimeLimit, an empty vector once
+   * MaximumRunTime has passed (checked before each label). */
   std::vector<double>
   ComputeUnaries(const LevelData &                     level,
                  const std::vector<float> &            indices,
                  const std::vector<DisplacementType> & labels,
                  bool                                  stopAtTimeLimit = false) const;
 
-  /** Projects per-voxel values (VChannels of them, from valueFunction(voxel, values)) onto the control points with
-   * their B-spline weights, separably: along x into rows, along y into planes, along z into projected. */
-  template <unsigned int VChannels, typename TValueFunction>
+  /** Hands the similarity, the number of histogram bins and of work units to m_UnaryCosts. */
   void
-  Project(const LevelData &     level,
-          TValueFunction &&     valueFunction,
-          std::vector<double> & rows,
-          std::vector<double> & planes,
-          std::vector<double> & projected) const;
+  ConfigureUnaryCosts();
 
   double
   Pairwise(const DisplacementType & difference, double inverseSpacing) const;
@@ -375,12 +346,8 @@ private:
   unsigned int              m_NumberOfRejectedUpdates{ 0 };
   double                    m_MinimumJacobianDeterminant{ 1.0 };
 
-  // Mutual information: the cost table over histogram bins and the intensity-to-bin maps.
-  std::vector<double> m_HistogramCosts{};
-  double              m_FixedBinScale{ 1.0 };
-  double              m_FixedBinOffset{ 0.0 };
-  double              m_MovingBinScale{ 1.0 };
-  double              m_MovingBinOffset{ 0.0 };
+  // The unary costs and, for mutual information, the cost table over histogram bins.
+  detail::BSplineMRFUnaryCosts m_UnaryCosts{};
 };
 } // namespace itk
 

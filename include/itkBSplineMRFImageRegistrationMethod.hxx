@@ -26,6 +26,7 @@
 #include "itkDiscreteGaussianImageFilter.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
 #include "itkMultiThreaderBase.h"
+#include <functional>
 #include "itkShrinkImageFilter.h"
 #include <algorithm>
 #include <atomic>
@@ -357,12 +358,12 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::PrepareLevel(const
 
   // Summed support weights and, for NCC, the fixed moments.
   std::vector<double> rows, planes;
-  this->template Project<1>(
+  detail::BSplineMRFUnaryCosts::Project<1>(
     level, [](const Voxel &, double * value) { value[0] = 1.0; }, rows, planes, level.SupportWeight);
   level.FixedMoments.clear();
   if (m_Similarity == SimilarityEnum::NormalizedCrossCorrelation)
   {
-    this->template Project<2>(
+    detail::BSplineMRFUnaryCosts::Project<2>(
       level,
       [](const Voxel & voxel, double * value) {
         value[0] = voxel.FixedValue;
@@ -375,302 +376,33 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::PrepareLevel(const
 }
 
 template <typename TFixedImage, typename TMovingImage>
-template <unsigned int VChannels, typename TValueFunction>
-void
-BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::Project(const LevelData &     level,
-                                                                      TValueFunction &&     valueFunction,
-                                                                      std::vector<double> & rows,
-                                                                      std::vector<double> & planes,
-                                                                      std::vector<double> & projected) const
-{
-  const size_t nx = level.ImageSize[0];
-  const size_t ny = level.ImageSize[1];
-  const size_t nz = level.ImageSize[2];
-  const size_t gx = level.GridSize[0];
-  const size_t gy = level.GridSize[1];
-  const size_t gz = level.GridSize[2];
-  (void)nx;
-  constexpr unsigned int channels = VChannels;
-  // Along x: rows[(z * ny + y) * gx + cx][channel].
-  rows.assign(nz * ny * gx * channels, 0.0);
-  double value[VChannels];
-  for (const Voxel & voxel : level.Voxels)
-  {
-    valueFunction(voxel, value);
-    const size_t base = ((voxel.Index[2] * ny + voxel.Index[1]) * gx + level.WeightStart[0][voxel.Index[0]]) * channels;
-    const double * weights = &level.Weights[0][4 * voxel.Index[0]];
-    for (unsigned int k = 0; k < 4; ++k)
-    {
-      for (unsigned int c = 0; c < channels; ++c)
-      {
-        rows[base + k * channels + c] += weights[k] * value[c];
-      }
-    }
-  }
-  // Along y: planes[(z * gy + cy) * gx + cx][channel].
-  planes.assign(nz * gy * gx * channels, 0.0);
-  const size_t rowLength = gx * channels;
-  for (size_t z = 0; z < nz; ++z)
-  {
-    for (size_t y = 0; y < ny; ++y)
-    {
-      if (!level.RowUsed[y + ny * z])
-      {
-        continue;
-      }
-      const double * row = &rows[(z * ny + y) * rowLength];
-      const double * weights = &level.Weights[1][4 * y];
-      const size_t   start = level.WeightStart[1][y];
-      for (unsigned int k = 0; k < 4; ++k)
-      {
-        double *     plane = &planes[(z * gy + start + k) * rowLength];
-        const double w = weights[k];
-        for (size_t i = 0; i < rowLength; ++i)
-        {
-          plane[i] += w * row[i];
-        }
-      }
-    }
-  }
-  // Along z: projected[(cz * gy + cy) * gx + cx][channel].
-  projected.assign(gz * gy * gx * channels, 0.0);
-  const size_t planeLength = gy * rowLength;
-  for (size_t z = 0; z < nz; ++z)
-  {
-    const double * plane = &planes[z * planeLength];
-    const double * weights = &level.Weights[2][4 * z];
-    const size_t   start = level.WeightStart[2][z];
-    for (unsigned int k = 0; k < 4; ++k)
-    {
-      double *     out = &projected[(start + k) * planeLength];
-      const double w = weights[k];
-      if (w == 0.0)
-      {
-        continue;
-      }
-      for (size_t i = 0; i < planeLength; ++i)
-      {
-        out[i] += w * plane[i];
-      }
-    }
-  }
-}
-
-template <typename TFixedImage, typename TMovingImage>
 void
 BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::ComputeMovingIndices(
   const LevelData &            level,
   const BSplineTransformType * transform,
   std::vector<float> &         indices) const
 {
-  const auto &   images = transform->GetCoefficientImages();
-  const double * coefficients[3] = { images[0]->GetBufferPointer(),
-                                     images[1]->GetBufferPointer(),
-                                     images[2]->GetBufferPointer() };
-  const size_t   gx = level.GridSize[0];
-  const size_t   gxy = gx * level.GridSize[1];
-  indices.resize(3 * level.Voxels.size());
-  const auto body = [&](SizeValueType v) {
-    const Voxel &  voxel = level.Voxels[v];
-    const double * wx = &level.Weights[0][4 * voxel.Index[0]];
-    const double * wy = &level.Weights[1][4 * voxel.Index[1]];
-    const double * wz = &level.Weights[2][4 * voxel.Index[2]];
-    const size_t   base = level.WeightStart[0][voxel.Index[0]] + gx * level.WeightStart[1][voxel.Index[1]] +
-                        gxy * level.WeightStart[2][voxel.Index[2]];
-    double displacement[3] = { 0.0, 0.0, 0.0 };
-    for (unsigned int kz = 0; kz < 4; ++kz)
-    {
-      for (unsigned int ky = 0; ky < 4; ++ky)
-      {
-        const double wzy = wz[kz] * wy[ky];
-        const size_t row = base + kz * gxy + ky * gx;
-        for (unsigned int d = 0; d < 3; ++d)
-        {
-          const double * c = coefficients[d] + row;
-          displacement[d] += wzy * (wx[0] * c[0] + wx[1] * c[1] + wx[2] * c[2] + wx[3] * c[3]);
-        }
-      }
-    }
-    for (unsigned int a = 0; a < 3; ++a)
-    {
-      double shift = 0.0;
-      for (unsigned int b = 0; b < 3; ++b)
-      {
-        shift += level.MovingIndexPerMM[a][b] * displacement[b];
-      }
-      indices[3 * v + a] = static_cast<float>(voxel.BaseMovingIndex[a] + shift);
-    }
-  };
-  auto threader = MultiThreaderBase::New();
-  threader->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
-  threader->ParallelizeArray(0, level.Voxels.size(), body, nullptr);
+  const auto &         images = transform->GetCoefficientImages();
+  const double * const coefficients[3] = { images[0]->GetBufferPointer(),
+                                           images[1]->GetBufferPointer(),
+                                           images[2]->GetBufferPointer() };
+  m_UnaryCosts.ComputeMovingIndices(level, coefficients, indices);
 }
 
 template <typename TFixedImage, typename TMovingImage>
 double
 BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::PointwiseCost(double fixedValue, double movingValue) const
 {
-  switch (m_Similarity)
-  {
-    case SimilarityEnum::SumOfSquaredDifferences:
-      return (fixedValue - movingValue) * (fixedValue - movingValue);
-    case SimilarityEnum::SumOfAbsoluteDifferences:
-      return std::abs(fixedValue - movingValue);
-    case SimilarityEnum::MutualInformation: {
-      const double   bins = m_NumberOfHistogramBins;
-      const double   fb = std::min(std::max((fixedValue - m_FixedBinOffset) * m_FixedBinScale, 0.0), bins - 1.0);
-      const double   mb = std::min(std::max((movingValue - m_MovingBinOffset) * m_MovingBinScale, 0.0), bins - 1.0);
-      const auto     fi = std::min(static_cast<unsigned int>(fb), m_NumberOfHistogramBins - 2);
-      const auto     mi = std::min(static_cast<unsigned int>(mb), m_NumberOfHistogramBins - 2);
-      const double   ft = fb - fi;
-      const double   mt = mb - mi;
-      const double * row0 = &m_HistogramCosts[fi * m_NumberOfHistogramBins + mi];
-      const double * row1 = row0 + m_NumberOfHistogramBins;
-      return (1.0 - ft) * ((1.0 - mt) * row0[0] + mt * row0[1]) + ft * ((1.0 - mt) * row1[0] + mt * row1[1]);
-    }
-    case SimilarityEnum::NormalizedCrossCorrelation:
-    default:
-      return 0.0;
-  }
+  return m_UnaryCosts.PointwiseCost(fixedValue, movingValue);
 }
-
-namespace detail
-{
-/** Trilinear interpolation of a buffer at a continuous index, clamped to the buffer (constant extension). */
-inline double
-BSplineMRFInterpolate(const float * buffer, const std::array<unsigned int, 3> & size, const double * index)
-{
-  size_t base = 0;
-  size_t step[3];
-  double t[3];
-  size_t stride = 1;
-  for (unsigned int a = 0; a < 3; ++a)
-  {
-    const double maxIndex = static_cast<double>(size[a] - 1);
-    const double c = std::min(std::max(index[a], 0.0), maxIndex);
-    auto         i = static_cast<size_t>(c);
-    if (i >= size[a] - 1)
-    {
-      i = size[a] - 1;
-      t[a] = 0.0;
-      step[a] = 0;
-    }
-    else
-    {
-      t[a] = c - static_cast<double>(i);
-      step[a] = stride;
-    }
-    base += i * stride;
-    stride *= size[a];
-  }
-  const float * p = buffer + base;
-  const double  c00 = p[0] + t[0] * (p[step[0]] - p[0]);
-  const double  c10 = p[step[1]] + t[0] * (p[step[1] + step[0]] - p[step[1]]);
-  const double  c01 = p[step[2]] + t[0] * (p[step[2] + step[0]] - p[step[2]]);
-  const double  c11 = p[step[2] + step[1]] + t[0] * (p[step[2] + step[1] + step[0]] - p[step[2] + step[1]]);
-  const double  c0 = c00 + t[1] * (c10 - c00);
-  const double  c1 = c01 + t[1] * (c11 - c01);
-  return c0 + t[2] * (c1 - c0);
-}
-} // namespace detail
 
 template <typename TFixedImage, typename TMovingImage>
 void
-BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::BuildHistogramCosts(const LevelData &          level,
-                                                                                  const std::vector<float> & indices)
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::ConfigureUnaryCosts()
 {
-  const unsigned int  bins = m_NumberOfHistogramBins;
-  std::vector<double> movingValues(level.Voxels.size());
-  double              fixedMin = std::numeric_limits<double>::max();
-  double              fixedMax = -fixedMin;
-  for (size_t v = 0; v < level.Voxels.size(); ++v)
-  {
-    const double index[3] = { indices[3 * v], indices[3 * v + 1], indices[3 * v + 2] };
-    movingValues[v] = detail::BSplineMRFInterpolate(level.MovingBuffer, level.MovingSize, index);
-    fixedMin = std::min(fixedMin, static_cast<double>(level.Voxels[v].FixedValue));
-    fixedMax = std::max(fixedMax, static_cast<double>(level.Voxels[v].FixedValue));
-  }
-  const size_t movingCount = static_cast<size_t>(level.MovingSize[0]) * level.MovingSize[1] * level.MovingSize[2];
-  const auto   movingRange = std::minmax_element(level.MovingBuffer, level.MovingBuffer + movingCount);
-  const double movingMin = *movingRange.first;
-  const double movingMax = *movingRange.second;
-  m_FixedBinOffset = fixedMin;
-  m_FixedBinScale = (bins - 1) / std::max(fixedMax - fixedMin, 1e-12);
-  m_MovingBinOffset = movingMin;
-  m_MovingBinScale = (bins - 1) / std::max(movingMax - movingMin, 1e-12);
-
-  // Joint histogram with linear splatting, then a Gaussian Parzen window of one bin.
-  std::vector<double> joint(bins * bins, 0.0);
-  for (size_t v = 0; v < level.Voxels.size(); ++v)
-  {
-    const double fb =
-      std::min(std::max((level.Voxels[v].FixedValue - m_FixedBinOffset) * m_FixedBinScale, 0.0), bins - 1.0);
-    const double mb = std::min(std::max((movingValues[v] - m_MovingBinOffset) * m_MovingBinScale, 0.0), bins - 1.0);
-    const auto   fi = std::min(static_cast<unsigned int>(fb), bins - 2);
-    const auto   mi = std::min(static_cast<unsigned int>(mb), bins - 2);
-    const double ft = fb - fi;
-    const double mt = mb - mi;
-    joint[fi * bins + mi] += (1.0 - ft) * (1.0 - mt);
-    joint[fi * bins + mi + 1] += (1.0 - ft) * mt;
-    joint[(fi + 1) * bins + mi] += ft * (1.0 - mt);
-    joint[(fi + 1) * bins + mi + 1] += ft * mt;
-  }
-  double kernel[7];
-  for (int k = -3; k <= 3; ++k)
-  {
-    kernel[k + 3] = std::exp(-0.5 * k * k);
-  }
-  std::vector<double> smoothed(bins * bins, 0.0);
-  for (unsigned int pass = 0; pass < 2; ++pass)
-  {
-    std::fill(smoothed.begin(), smoothed.end(), 0.0);
-    for (unsigned int i = 0; i < bins; ++i)
-    {
-      for (unsigned int j = 0; j < bins; ++j)
-      {
-        double sum = 0.0;
-        double weight = 0.0;
-        for (int k = -3; k <= 3; ++k)
-        {
-          const int n = static_cast<int>(pass == 0 ? i : j) + k;
-          if (n < 0 || n >= static_cast<int>(bins))
-          {
-            continue;
-          }
-          sum += kernel[k + 3] * (pass == 0 ? joint[n * bins + j] : joint[i * bins + n]);
-          weight += kernel[k + 3];
-        }
-        smoothed[i * bins + j] = sum / weight;
-      }
-    }
-    joint.swap(smoothed);
-  }
-  double total = 0.0;
-  for (const double h : joint)
-  {
-    total += h;
-  }
-  std::vector<double> fixedMarginal(bins, 0.0);
-  std::vector<double> movingMarginal(bins, 0.0);
-  for (unsigned int i = 0; i < bins; ++i)
-  {
-    for (unsigned int j = 0; j < bins; ++j)
-    {
-      joint[i * bins + j] /= total;
-      fixedMarginal[i] += joint[i * bins + j];
-      movingMarginal[j] += joint[i * bins + j];
-    }
-  }
-  m_HistogramCosts.assign(bins * bins, 0.0);
-  constexpr double epsilon = 1e-10;
-  for (unsigned int i = 0; i < bins; ++i)
-  {
-    for (unsigned int j = 0; j < bins; ++j)
-    {
-      m_HistogramCosts[i * bins + j] =
-        -std::log((joint[i * bins + j] + epsilon) / (fixedMarginal[i] * movingMarginal[j] + epsilon));
-    }
-  }
+  m_UnaryCosts.SetSimilarity(m_Similarity);
+  m_UnaryCosts.SetNumberOfHistogramBins(m_NumberOfHistogramBins);
+  m_UnaryCosts.SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
 }
 
 template <typename TFixedImage, typename TMovingImage>
@@ -681,118 +413,17 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::ComputeUnaries(
   const std::vector<DisplacementType> & labels,
   bool                                  stopAtTimeLimit) const
 {
-  const size_t        numberOfNodes = level.SupportWeight.size();
-  const size_t        numberOfLabels = labels.size();
-  std::vector<double> unary(numberOfNodes * numberOfLabels, 0.0);
-  double              largestWeight = 0.0;
-  for (const double w : level.SupportWeight)
+  std::vector<detail::BSplineMRFUnaryCosts::LabelType> displacements(labels.size());
+  for (size_t l = 0; l < labels.size(); ++l)
   {
-    largestWeight = std::max(largestWeight, w);
+    displacements[l] = { { labels[l][0], labels[l][1], labels[l][2] } };
   }
-  const double minimumWeight = 1e-6 * largestWeight;
-  const bool   ncc = m_Similarity == SimilarityEnum::NormalizedCrossCorrelation;
-
-  std::atomic<bool> stopped{ false };
-  const auto        body = [&](SizeValueType l) {
-    if (stopAtTimeLimit && (stopped || this->IsRunTimeExceeded()))
-    {
-      stopped = true;
-      return;
-    }
-    double shift[3];
-    for (unsigned int a = 0; a < 3; ++a)
-    {
-      shift[a] = 0.0;
-      for (unsigned int b = 0; b < 3; ++b)
-      {
-        shift[a] += level.MovingIndexPerMM[a][b] * labels[l][b];
-      }
-    }
-    const Voxel * first = level.Voxels.data();
-    const auto    movingAt = [&](const Voxel & voxel) {
-      const size_t v = &voxel - first;
-      const double index[3] = { indices[3 * v] + shift[0],
-                                indices[3 * v + 1] + shift[1],
-                                indices[3 * v + 2] + shift[2] };
-      return detail::BSplineMRFInterpolate(level.MovingBuffer, level.MovingSize, index);
-    };
-    std::vector<double> rows, planes, projected;
-    switch (m_Similarity)
-    {
-      case SimilarityEnum::SumOfSquaredDifferences:
-        this->template Project<1>(
-          level,
-          [&](const Voxel & voxel, double * out) {
-            const double difference = voxel.FixedValue - movingAt(voxel);
-            out[0] = difference * difference;
-          },
-          rows,
-          planes,
-          projected);
-        break;
-      case SimilarityEnum::SumOfAbsoluteDifferences:
-        this->template Project<1>(
-          level,
-          [&](const Voxel & voxel, double * out) { out[0] = std::abs(voxel.FixedValue - movingAt(voxel)); },
-          rows,
-          planes,
-          projected);
-        break;
-      case SimilarityEnum::MutualInformation:
-        this->template Project<1>(
-          level,
-          [&](const Voxel & voxel, double * out) { out[0] = this->PointwiseCost(voxel.FixedValue, movingAt(voxel)); },
-          rows,
-          planes,
-          projected);
-        break;
-      case SimilarityEnum::NormalizedCrossCorrelation:
-      default:
-        this->template Project<3>(
-          level,
-          [&](const Voxel & voxel, double * out) {
-            const double moving = movingAt(voxel);
-            out[0] = moving;
-            out[1] = moving * moving;
-            out[2] = moving * voxel.FixedValue;
-          },
-          rows,
-          planes,
-          projected);
-        break;
-    }
-    for (size_t p = 0; p < numberOfNodes; ++p)
-    {
-      const double w = level.SupportWeight[p];
-      double       cost = 0.0;
-      if (w > minimumWeight)
-      {
-        if (ncc)
-        {
-          const double meanFixed = level.FixedMoments[2 * p] / w;
-          const double meanMoving = projected[3 * p] / w;
-          const double varianceFixed = level.FixedMoments[2 * p + 1] / w - meanFixed * meanFixed;
-          const double varianceMoving = projected[3 * p + 1] / w - meanMoving * meanMoving;
-          const double covariance = projected[3 * p + 2] / w - meanFixed * meanMoving;
-          const double product = varianceFixed * varianceMoving;
-          cost = product > 1e-20 ? 1.0 - covariance / std::sqrt(product) : 1.0;
-        }
-        else
-        {
-          cost = projected[p] / w;
-        }
-      }
-      unary[p * numberOfLabels + l] = cost;
-    }
-  };
-  auto threader = MultiThreaderBase::New();
-  threader->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
-  threader->ParallelizeArray(0, numberOfLabels, body, nullptr);
-  if (stopped)
+  std::function<bool()> timeIsUp;
+  if (stopAtTimeLimit)
   {
-    unary.clear();
+    timeIsUp = [this] { return this->IsRunTimeExceeded(); };
   }
-  return unary;
+  return m_UnaryCosts.ComputeUnaries(level, indices, displacements, timeIsUp);
 }
 
 template <typename TFixedImage, typename TMovingImage>
@@ -808,13 +439,14 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::ComputeUnaryCosts(
   {
     itkExceptionMacro(<< "ComputeUnaryCosts needs images, a transform and at least one label");
   }
+  this->ConfigureUnaryCosts();
   LevelData level;
   this->PrepareLevel(fixed, mask, moving, transform, level);
   std::vector<float> indices;
   this->ComputeMovingIndices(level, transform, indices);
   if (m_Similarity == SimilarityEnum::MutualInformation)
   {
-    this->BuildHistogramCosts(level, indices);
+    m_UnaryCosts.BuildHistogramCosts(level, indices);
   }
   return this->ComputeUnaries(level, indices, labels);
 }
@@ -986,6 +618,7 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::RunLevel(unsigned 
   InternalImagePointer fixed = MakeLevelImage(this->GetFixedImage(), factor);
   InternalImagePointer moving = MakeLevelImage(this->GetMovingImage(), factor);
 
+  this->ConfigureUnaryCosts();
   LevelData data;
   this->PrepareLevel(fixed, this->GetFixedImageMask(), moving, transform, data);
   std::vector<float> indices;
@@ -993,7 +626,7 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::RunLevel(unsigned 
   this->ComputeMovingIndices(data, transform, indices);
   if (m_Similarity == SimilarityEnum::MutualInformation)
   {
-    this->BuildHistogramCosts(data, indices);
+    m_UnaryCosts.BuildHistogramCosts(data, indices);
   }
 
   const auto & spacing = transform->GetCoefficientImages()[0]->GetSpacing();
@@ -1147,11 +780,7 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::PrintSelf(std::ost
   os << indent << "LabelingEnergyValues: " << m_LabelingEnergyValues.size() << std::endl;
   os << indent << "NumberOfRejectedUpdates: " << m_NumberOfRejectedUpdates << std::endl;
   os << indent << "MinimumJacobianDeterminant: " << m_MinimumJacobianDeterminant << std::endl;
-  os << indent << "HistogramCosts: " << m_HistogramCosts.size() << " bins" << std::endl;
-  os << indent << "FixedBinScale: " << m_FixedBinScale << std::endl;
-  os << indent << "FixedBinOffset: " << m_FixedBinOffset << std::endl;
-  os << indent << "MovingBinScale: " << m_MovingBinScale << std::endl;
-  os << indent << "MovingBinOffset: " << m_MovingBinOffset << std::endl;
+  m_UnaryCosts.Print(os, indent);
 }
 } // namespace itk
 
