@@ -20,6 +20,7 @@
 
 #include "itkBSplineTransform.h"
 #include "itkFFDShapeMatchingEnums.h"
+#include "itkImageBufferGrid.h"
 #include "itkImageToImageMetricv4.h"
 #include "itkMultiThreaderBase.h"
 
@@ -246,15 +247,7 @@ private:
     GradientType                             FrontOffset = GradientType(0.0);
   };
 
-  /** Geometry of an image buffer for fast linear interpolation. */
-  struct Grid
-  {
-    PositionJacobianType PointToIndex{ PositionJacobianType::GetIdentity() };
-    VirtualPointType     Origin = VirtualPointType(0.0);
-    IndexValueType       Start[ImageDimension]{};
-    IndexValueType       End[ImageDimension]{};
-    OffsetValueType      Stride[ImageDimension]{};
-  };
+  using Grid = detail::ImageBufferGrid<ImageDimension>;
 
   /** Per work unit partial results. */
   struct WorkUnitResult
@@ -274,17 +267,6 @@ private:
 
   void
   ComputeIntensityRanges();
-
-  template <typename TImage>
-  static void
-  MakeGrid(const TImage * image, Grid & grid);
-
-  static bool
-  ToContinuousIndex(const Grid & grid, const VirtualPointType & point, double * continuousIndex);
-
-  template <typename TPixel, typename TValue>
-  static void
-  InterpolateLinear(const Grid & grid, const TPixel * buffer, const double * continuousIndex, TValue & value);
 
   bool
   ComputeSupport(const VirtualPointType & point, Support & support) const;

@@ -19,6 +19,7 @@
 #define itkBSplineSparseImageToImageMetricv4_hxx
 
 #include "itkBSplineSparseImageToImageMetricv4.h"
+#include "itkMattesMutualInformation.h"
 #include "itkCompositeTransform.h"
 #include "itkCubicBSplineKernel.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
@@ -54,7 +55,7 @@ BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::Initialize()
   }
   this->ResolveMovingTransform(); // throws for an unsupported moving transform
 
-  MakeGrid(this->m_MovingImage.GetPointer(), m_MovingGrid);
+  m_MovingGrid.SetFromImage(this->m_MovingImage.GetPointer());
   m_MovingBuffer = this->m_MovingImage->GetBufferPointer();
   m_GradientBuffer = nullptr;
   if (this->GetUseMovingImageGradientFilter())
@@ -63,7 +64,7 @@ BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::Initialize()
     {
       itkExceptionMacro("The moving image gradient image was not computed.");
     }
-    MakeGrid(this->m_MovingImageGradientImage.GetPointer(), m_GradientGrid);
+    m_GradientGrid.SetFromImage(this->m_MovingImageGradientImage.GetPointer());
     m_GradientBuffer = this->m_MovingImageGradientImage->GetBufferPointer();
   }
 
@@ -227,118 +228,6 @@ BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::ResolveMovingTrans
 }
 
 template <typename TFixedImage, typename TMovingImage>
-template <typename TImage>
-void
-BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::MakeGrid(const TImage * image, Grid & grid)
-{
-  // The matrix of ImageBase::ComputeIndexToPhysicalPointMatrices(), computed the same way.
-  typename TImage::DirectionType scale;
-  scale.Fill(0.0);
-  for (unsigned int i = 0; i < ImageDimension; ++i)
-  {
-    scale[i][i] = image->GetSpacing()[i];
-  }
-  const typename TImage::DirectionType indexToPoint = image->GetDirection() * scale;
-  grid.PointToIndex = PositionJacobianType(indexToPoint.GetInverse());
-
-  const auto & region = image->GetBufferedRegion();
-  const auto & offsets = image->GetOffsetTable();
-  for (unsigned int i = 0; i < ImageDimension; ++i)
-  {
-    grid.Origin[i] = image->GetOrigin()[i];
-    grid.Start[i] = region.GetIndex()[i];
-    grid.End[i] = region.GetIndex()[i] + static_cast<IndexValueType>(region.GetSize()[i]) - 1;
-    grid.Stride[i] = offsets[i];
-  }
-}
-
-template <typename TFixedImage, typename TMovingImage>
-bool
-BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::ToContinuousIndex(const Grid &             grid,
-                                                                                const VirtualPointType & point,
-                                                                                double * continuousIndex)
-{
-  // Same arithmetic and bounds as ImageBase::TransformPhysicalPointToContinuousIndex and
-  // ImageFunction::IsInsideBuffer: [start - 0.5, end + 0.5).
-  bool inside = true;
-  for (unsigned int i = 0; i < ImageDimension; ++i)
-  {
-    double sum = 0.0;
-    for (unsigned int j = 0; j < ImageDimension; ++j)
-    {
-      sum += grid.PointToIndex[i][j] * (point[j] - grid.Origin[j]);
-    }
-    continuousIndex[i] = sum;
-    inside =
-      inside && (sum >= static_cast<double>(grid.Start[i]) - 0.5 && sum < static_cast<double>(grid.End[i]) + 0.5);
-  }
-  return inside;
-}
-
-template <typename TFixedImage, typename TMovingImage>
-template <typename TPixel, typename TValue>
-void
-BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::InterpolateLinear(const Grid &   grid,
-                                                                                const TPixel * buffer,
-                                                                                const double * continuousIndex,
-                                                                                TValue &       value)
-{
-  // Linear interpolation with the boundary handling of LinearInterpolateImageFunction: below the first index the
-  // first sample is used, past the last index the last one.
-  OffsetValueType baseOffset = 0;
-  OffsetValueType step[ImageDimension];
-  double          distance[ImageDimension];
-  for (unsigned int i = 0; i < ImageDimension; ++i)
-  {
-    IndexValueType base = Math::Floor<IndexValueType>(continuousIndex[i]);
-    if (base < grid.Start[i])
-    {
-      base = grid.Start[i];
-      distance[i] = 0.0;
-    }
-    else
-    {
-      distance[i] = continuousIndex[i] - static_cast<double>(base);
-    }
-    step[i] = base + 1 > grid.End[i] ? 0 : grid.Stride[i];
-    baseOffset += (base - grid.Start[i]) * grid.Stride[i];
-  }
-  value = TValue{};
-  for (unsigned int corner = 0; corner < (1u << ImageDimension); ++corner)
-  {
-    double          weight = 1.0;
-    OffsetValueType offset = baseOffset;
-    for (unsigned int i = 0; i < ImageDimension; ++i)
-    {
-      if (corner & (1u << i))
-      {
-        weight *= distance[i];
-        offset += step[i];
-      }
-      else
-      {
-        weight *= 1.0 - distance[i];
-      }
-    }
-    if (weight != 0.0)
-    {
-      const TPixel & pixel = buffer[offset];
-      if constexpr (std::is_arithmetic<TPixel>::value)
-      {
-        value += weight * static_cast<double>(pixel);
-      }
-      else
-      {
-        for (unsigned int d = 0; d < ImageDimension; ++d)
-        {
-          value[d] += weight * static_cast<double>(pixel[d]);
-        }
-      }
-    }
-  }
-}
-
-template <typename TFixedImage, typename TMovingImage>
 void
 BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::ComputeIntensityRanges()
 {
@@ -410,7 +299,7 @@ BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::CacheSamples()
   m_Samples.clear();
   Grid                fixedGrid;
   const TFixedImage * fixedImage = this->m_FixedImage.GetPointer();
-  MakeGrid(fixedImage, fixedGrid);
+  fixedGrid.SetFromImage(fixedImage);
   const auto * fixedBuffer = fixedImage->GetBufferPointer();
 
   const auto addSample = [&](const VirtualPointType & virtualPoint) {
@@ -420,12 +309,12 @@ BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::CacheSamples()
       return;
     }
     double continuousIndex[ImageDimension];
-    if (!ToContinuousIndex(fixedGrid, fixedPoint, continuousIndex))
+    if (!fixedGrid.ToContinuousIndex(fixedPoint, continuousIndex))
     {
       return;
     }
     double value = 0.0;
-    InterpolateLinear(fixedGrid, fixedBuffer, continuousIndex, value);
+    fixedGrid.InterpolateLinear(fixedBuffer, continuousIndex, value);
     Sample sample;
     sample.Point = virtualPoint;
     sample.FixedValue = static_cast<double>(static_cast<FixedImagePixelType>(value));
@@ -463,7 +352,7 @@ BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::ComputeSupport(con
 {
   // Valid region and weights of BSplineTransform::InsideValidRegion and BSplineInterpolationWeightFunction.
   double continuousIndex[ImageDimension];
-  ToContinuousIndex(m_CoefficientGrid, point, continuousIndex);
+  m_CoefficientGrid.ToContinuousIndex(point, continuousIndex);
   for (unsigned int i = 0; i < ImageDimension; ++i)
   {
     double       index = continuousIndex[i];
@@ -522,8 +411,8 @@ BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::ComputeMovingGradi
   if (m_GradientBuffer != nullptr)
   {
     double gradientIndex[ImageDimension];
-    ToContinuousIndex(m_GradientGrid, movingPoint, gradientIndex);
-    InterpolateLinear(m_GradientGrid, m_GradientBuffer, gradientIndex, gradient);
+    m_GradientGrid.ToContinuousIndex(movingPoint, gradientIndex);
+    m_GradientGrid.InterpolateLinear(m_GradientBuffer, gradientIndex, gradient);
     return;
   }
   // Central differences of the interpolated image along the physical axes, zero where a neighbour leaves the
@@ -539,7 +428,7 @@ BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::ComputeMovingGradi
     double       belowIndex[ImageDimension];
     double       aboveIndex[ImageDimension];
     const double delta = above[d] - below[d];
-    if (!ToContinuousIndex(m_MovingGrid, below, belowIndex) || !ToContinuousIndex(m_MovingGrid, above, aboveIndex) ||
+    if (!m_MovingGrid.ToContinuousIndex(below, belowIndex) || !m_MovingGrid.ToContinuousIndex(above, aboveIndex) ||
         !(delta > 10.0 * NumericTraits<double>::epsilon()))
     {
       gradient[d] = 0.0;
@@ -547,8 +436,8 @@ BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::ComputeMovingGradi
     }
     double belowValue = 0.0;
     double aboveValue = 0.0;
-    InterpolateLinear(m_MovingGrid, m_MovingBuffer, belowIndex, belowValue);
-    InterpolateLinear(m_MovingGrid, m_MovingBuffer, aboveIndex, aboveValue);
+    m_MovingGrid.InterpolateLinear(m_MovingBuffer, belowIndex, belowValue);
+    m_MovingGrid.InterpolateLinear(m_MovingBuffer, aboveIndex, aboveValue);
     gradient[d] = (aboveValue - belowValue) / delta;
   }
 }
@@ -643,12 +532,12 @@ BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::EvaluateSample(con
     return false;
   }
   double continuousIndex[ImageDimension];
-  if (!ToContinuousIndex(m_MovingGrid, movingPoint, continuousIndex))
+  if (!m_MovingGrid.ToContinuousIndex(movingPoint, continuousIndex))
   {
     return false;
   }
   double value = 0.0;
-  InterpolateLinear(m_MovingGrid, m_MovingBuffer, continuousIndex, value);
+  m_MovingGrid.InterpolateLinear(m_MovingBuffer, continuousIndex, value);
   movingValue = static_cast<double>(static_cast<MovingImagePixelType>(value));
 
   if (computeGradient && insideGrid)
@@ -726,7 +615,7 @@ BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::PrepareEvaluation(
   m_Parts = this->ResolveMovingTransform();
   const BSplineTransformType * bspline = m_Parts.BSpline;
   const auto &                 coefficientImages = bspline->GetCoefficientImages();
-  MakeGrid(coefficientImages[0].GetPointer(), m_CoefficientGrid);
+  m_CoefficientGrid.SetFromImage(coefficientImages[0].GetPointer());
   for (unsigned int d = 0; d < ImageDimension; ++d)
   {
     m_Coefficients[d] = coefficientImages[d]->GetBufferPointer();
@@ -966,57 +855,12 @@ BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::ComputeMattes(Meas
                              << " samples map outside the moving image buffer (or mask) or its intensity range: the "
                                 "images do not overlap.");
   }
-  CompensatedSummation<double> jointSum;
-  for (const double bin : joint)
-  {
-    jointSum += bin;
-  }
-  if (jointSum.GetSum() < NumericTraits<double>::epsilon())
+  // Normalized histograms, value and the log ratios of the derivative (Mattes et al. 2003, eqs. 3-4 and 11).
+  std::vector<double> logRatio;
+  double              sum = 0.0;
+  if (!detail::ComputeMattesMutualInformation(bins, joint, fixedMarginal, computeDerivative ? &logRatio : nullptr, sum))
   {
     itkExceptionMacro("The joint histogram sums to zero.");
-  }
-
-  // Normalized histograms, value and the log ratios of the derivative (Mattes et al. 2003, eqs. 3-4 and 11).
-  const double normalization = 1.0 / jointSum.GetSum();
-  for (auto & bin : joint)
-  {
-    bin *= normalization;
-  }
-  for (auto & bin : fixedMarginal)
-  {
-    bin *= normalization;
-  }
-  std::vector<double> movingMarginal(bins, 0.0);
-  for (SizeValueType f = 0; f < bins; ++f)
-  {
-    for (SizeValueType m = 0; m < bins; ++m)
-    {
-      movingMarginal[m] += joint[f * bins + m];
-    }
-  }
-  constexpr double    closeToZero = std::numeric_limits<double>::epsilon();
-  std::vector<double> logRatio(computeDerivative ? bins * bins : 0, 0.0);
-  double              sum = 0.0;
-  for (SizeValueType f = 0; f < bins; ++f)
-  {
-    if (!(fixedMarginal[f] > closeToZero))
-    {
-      continue;
-    }
-    const double logFixedMarginal = std::log(fixedMarginal[f]);
-    for (SizeValueType m = 0; m < bins; ++m)
-    {
-      const double p = joint[f * bins + m];
-      if (movingMarginal[m] > closeToZero && p > closeToZero)
-      {
-        const double ratio = std::log(p / movingMarginal[m]);
-        sum += p * (ratio - logFixedMarginal);
-        if (computeDerivative)
-        {
-          logRatio[f * bins + m] = ratio;
-        }
-      }
-    }
   }
   value = static_cast<MeasureType>(-sum);
   this->m_Value = value;
