@@ -168,12 +168,14 @@ ScaledTriangleCopy(const TMesh * mesh, double side, MeshPlacement placement)
 {
   constexpr unsigned int Dimension = TMesh::PointDimension;
   const auto *           bounds = mesh->GetBoundingBox();
-  const auto             lower = bounds->GetMinimum();
-  const auto             upper = bounds->GetMaximum();
+  double                 lower[Dimension];
+  double                 upper[Dimension];
   double                 largest = 0.0;
   double                 anchor[Dimension];
   for (unsigned int k = 0; k < Dimension; ++k)
   {
+    lower[k] = static_cast<double>(bounds->GetMinimum()[k]);
+    upper[k] = static_cast<double>(bounds->GetMaximum()[k]);
     largest = std::max(largest, upper[k] - lower[k]);
     anchor[k] = placement == MeshPlacement::CentreAtOrigin ? 0.5 * (lower[k] + upper[k]) : lower[k];
   }
