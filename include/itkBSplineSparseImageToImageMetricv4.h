@@ -18,6 +18,7 @@
 #ifndef itkBSplineSparseImageToImageMetricv4_h
 #define itkBSplineSparseImageToImageMetricv4_h
 
+#include "itkBSplineCompositeTransformParts.h"
 #include "itkBSplineTransform.h"
 #include "itkFFDShapeMatchingEnums.h"
 #include "itkImageBufferGrid.h"
@@ -237,15 +238,7 @@ private:
     double         Weights[ImageDimension][SupportSize];
   };
 
-  /** The moving transform taken apart: the B-spline and the transforms applied after it. */
-  struct TransformParts
-  {
-    const BSplineTransformType *             BSpline{ nullptr };
-    std::vector<const MovingTransformType *> Front; // in the order they are applied
-    bool                                     FrontIsLinear{ true };
-    PositionJacobianType                     FrontMatrix{ PositionJacobianType::GetIdentity() };
-    GradientType                             FrontOffset = GradientType(0.0);
-  };
+  using TransformParts = detail::BSplineCompositeTransformParts<ImageDimension>;
 
   using Grid = detail::ImageBufferGrid<ImageDimension>;
 

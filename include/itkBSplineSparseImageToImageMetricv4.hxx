@@ -154,77 +154,18 @@ template <typename TFixedImage, typename TMovingImage>
 auto
 BSplineSparseImageToImageMetricv4<TFixedImage, TMovingImage>::ResolveMovingTransform() const -> TransformParts
 {
-  TransformParts parts;
-  parts.FrontMatrix.SetIdentity();
-  parts.FrontOffset.Fill(0.0);
-
-  const MovingTransformType * moving = this->m_MovingTransform.GetPointer();
-  if (moving == nullptr)
+  if (this->m_MovingTransform.IsNull())
   {
     itkExceptionMacro("MovingTransform is not present");
   }
-  parts.BSpline = dynamic_cast<const BSplineTransformType *>(moving);
-  if (parts.BSpline != nullptr)
+  try
   {
-    return parts;
+    return TransformParts::Resolve(this->m_MovingTransform.GetPointer());
   }
-
-  using CompositeType = CompositeTransform<double, ImageDimension>;
-  const auto * composite = dynamic_cast<const CompositeType *>(moving);
-  if (composite == nullptr || composite->GetNumberOfTransforms() == 0)
+  catch (const ExceptionObject & error)
   {
-    itkExceptionMacro("The moving transform must be a cubic BSplineTransform<double, "
-                      << ImageDimension << ", 3> or a CompositeTransform ending with one; it is a "
-                      << moving->GetNameOfClass() << '.');
+    itkExceptionMacro(<< error.GetDescription());
   }
-  const SizeValueType numberOfTransforms = composite->GetNumberOfTransforms();
-  parts.BSpline =
-    dynamic_cast<const BSplineTransformType *>(composite->GetNthTransformConstPointer(numberOfTransforms - 1));
-  if (parts.BSpline == nullptr)
-  {
-    itkExceptionMacro("The most recent (back) transform of the moving CompositeTransform must be a cubic "
-                      "BSplineTransform<double, "
-                      << ImageDimension << ", 3>; it is a "
-                      << composite->GetNthTransformConstPointer(numberOfTransforms - 1)->GetNameOfClass() << '.');
-  }
-  if (!composite->GetNthTransformToOptimize(numberOfTransforms - 1))
-  {
-    itkExceptionMacro("The B-spline transform of the moving CompositeTransform is not flagged for optimization.");
-  }
-  for (SizeValueType i = numberOfTransforms - 1; i-- > 0;)
-  {
-    if (composite->GetNthTransformToOptimize(i))
-    {
-      itkExceptionMacro("Only the B-spline (back) transform of the moving CompositeTransform may be optimized; "
-                        "transform "
-                        << i << " is flagged too.");
-    }
-    const MovingTransformType * front = composite->GetNthTransformConstPointer(i);
-    parts.Front.push_back(front);
-    parts.FrontIsLinear =
-      parts.FrontIsLinear && front->GetTransformCategory() == MovingTransformType::TransformCategoryEnum::Linear;
-  }
-  if (parts.FrontIsLinear)
-  {
-    // Compose y = M z + c over the front transforms, in the order they are applied.
-    typename MovingTransformType::InputPointType origin;
-    origin.Fill(0.0);
-    for (const MovingTransformType * front : parts.Front)
-    {
-      typename MovingTransformType::JacobianPositionType jacobian;
-      front->ComputeJacobianWithRespectToPosition(origin, jacobian);
-      PositionJacobianType matrix(jacobian);
-      const auto           offset = front->TransformPoint(origin);
-      GradientType         newOffset = matrix * parts.FrontOffset;
-      for (unsigned int d = 0; d < ImageDimension; ++d)
-      {
-        newOffset[d] += offset[d];
-      }
-      parts.FrontMatrix = matrix * parts.FrontMatrix;
-      parts.FrontOffset = newOffset;
-    }
-  }
-  return parts;
 }
 
 template <typename TFixedImage, typename TMovingImage>
