@@ -235,10 +235,11 @@ public:
   itkSetMacro(OutsideValue, OutputPixelType);
   itkGetConstMacro(OutsideValue, OutputPixelType);
 
-  /** Image whose geometry (largest region, spacing, origin, direction) the output copies. Default:
-   * none, the Origin, Spacing, Size and Direction parameters are used. */
-  itkSetConstObjectMacro(ReferenceImage, ReferenceImageType);
-  itkGetConstObjectMacro(ReferenceImage, ReferenceImageType);
+  /** Image whose geometry (largest region, spacing, origin, direction) the output copies: an optional input named
+   * "ReferenceImage", updated by the pipeline like any input (only its information is used). Default: none, the
+   * Origin, Spacing, Size and Direction parameters are used. */
+  itkSetInputMacro(ReferenceImage, ReferenceImageType);
+  itkGetInputMacro(ReferenceImage, ReferenceImageType);
 
   /** Physical position of the centre of voxel 0 when no reference image is set. Default: 0. */
   itkSetMacro(Origin, PointType);
@@ -321,10 +322,6 @@ public:
   void
   SetGeometryFromMeshBounds(const SpacingType & spacing, double margin);
 
-  /** Includes the reference image's modification time. */
-  ModifiedTimeType
-  GetMTime() const override;
-
 protected:
   TriangleMeshToVoxelImageFilter();
   ~TriangleMeshToVoxelImageFilter() override = default;
@@ -403,8 +400,6 @@ private:
   ModeEnum        m_Mode{ ModeEnum::Solid };
   OutputPixelType m_InsideValue{ NumericTraits<OutputPixelType>::OneValue() };
   OutputPixelType m_OutsideValue{ NumericTraits<OutputPixelType>::ZeroValue() };
-
-  typename ReferenceImageType::ConstPointer m_ReferenceImage{};
 
   PointType     m_Origin{};  // Filled with 0 in the constructor.
   SpacingType   m_Spacing{}; // Filled with 1 in the constructor.

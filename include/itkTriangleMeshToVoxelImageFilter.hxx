@@ -132,18 +132,6 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::SetGeometryFromMeshBou
 }
 
 template <typename TInputMesh, typename TOutputImage>
-ModifiedTimeType
-TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::GetMTime() const
-{
-  ModifiedTimeType result = Superclass::GetMTime();
-  if (m_ReferenceImage)
-  {
-    result = std::max(result, m_ReferenceImage->GetMTime());
-  }
-  return result;
-}
-
-template <typename TInputMesh, typename TOutputImage>
 void
 TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::PrintSelf(std::ostream & os, Indent indent) const
 {
@@ -153,7 +141,7 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::PrintSelf(std::ostream
      << std::endl;
   os << indent << "OutsideValue: " << static_cast<typename NumericTraits<OutputPixelType>::PrintType>(m_OutsideValue)
      << std::endl;
-  itkPrintSelfObjectMacro(ReferenceImage);
+  os << indent << "ReferenceImage: " << this->GetReferenceImage() << std::endl;
   os << indent << "Origin: " << m_Origin << std::endl;
   os << indent << "Spacing: " << m_Spacing << std::endl;
   os << indent << "Size: " << m_Size << std::endl;
@@ -182,12 +170,12 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::ComputeOutputGeometry(
                                                                                 PointType &             origin,
                                                                                 DirectionType &         direction) const
 {
-  if (m_ReferenceImage)
+  if (const ReferenceImageType * reference = this->GetReferenceImage())
   {
-    region = m_ReferenceImage->GetLargestPossibleRegion();
-    spacing = m_ReferenceImage->GetSpacing();
-    origin = m_ReferenceImage->GetOrigin();
-    direction = m_ReferenceImage->GetDirection();
+    region = reference->GetLargestPossibleRegion();
+    spacing = reference->GetSpacing();
+    origin = reference->GetOrigin();
+    direction = reference->GetDirection();
   }
   else
   {
@@ -212,7 +200,7 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::VerifyPreconditions() 
   PointType             origin;
   DirectionType         direction;
   this->ComputeOutputGeometry(region, spacing, origin, direction);
-  const char * source = m_ReferenceImage ? "reference image" : "output";
+  const char * source = this->GetReferenceImage() != nullptr ? "reference image" : "output";
   for (unsigned int k = 0; k < OutputImageDimension; ++k)
   {
     if (!(spacing[k] > 0.0) || !std::isfinite(spacing[k]))
