@@ -160,6 +160,9 @@ def main():
     mode, SNAKEMAKE, FFD_MATCH, WORKDIR = sys.argv[1:]
     if mode != "slurm-inside":
         check(shutil.which(SNAKEMAKE) is not None, f"snakemake not found ('{SNAKEMAKE}'): install Debian's snakemake")
+        if mode == "slurm" and os.path.isdir(os.path.join(WORKDIR, "slurm")):
+            # Daemons an earlier run left (killed at a time-out: its trap could not run), by their pid files.
+            subprocess.run(["bash", "-c", f"source {HERE}/local_slurm.sh; SLURM_DIR={WORKDIR}/slurm slurm_stop"])
         shutil.rmtree(WORKDIR, ignore_errors=True)
         os.makedirs(WORKDIR)
     if mode == "local":
