@@ -36,6 +36,12 @@ def read_row(status_path):
     return row
 
 
+def read_table(csv_path):
+    """The rows of a population table written by write_population()."""
+    with open(csv_path, newline="") as table:
+        return list(csv.DictReader(table))
+
+
 def summarize(rows):
     """Counts and the spread of time, memory and accuracy over the matched pairs."""
     matched = [row for row in rows if row["status"] == "ok"]

@@ -9,7 +9,8 @@ ffd-match's one-line errors. A second run does nothing; after both inputs are re
 those two pairs (the others' status files untouched) and the table then holds 5 matched rows.
 slurm: the same through a single-node Slurm on localhost (workflows/test/local_slurm.sh, stopped at the end) with the
 profile workflows/slurm, on 2 pairs and the damaged one.
-template: one template and a folder of 2 targets (--config template=... targets=...).
+template: one template and a folder of 3 targets (--config template=... targets=...), with templates=2: the learned
+templates (ffd-templates) are read by ffd-match --method par.
 Prints "PASS: <mode>" at the end; any failed check prints "FAIL: ..." and exits 1.
 """
 import csv
@@ -134,13 +135,30 @@ def run_failures_and_repair(arguments, ids, label):
 
 
 def run_template_folder():
-    pairs = make_pairs(2)
-    log = snakemake(["--cores", "2"], [f"template={pairs}/template.off", f"targets={pairs}/targets"], "template")
-    check(matched_ids(log) == ["pair-000", "pair-001"], f"template run matched {matched_ids(log)}")
+    """One template, a folder of 3 targets, and templates learned from the 3 transforms (ffd-templates, beside
+    ffd-match) that ffd-match --method par then reads."""
+    pairs = make_pairs(3)
+    ffd_templates = os.path.join(os.path.dirname(FFD_MATCH), "ffd-templates")
+    log = snakemake(["--cores", "2"], [f"template={pairs}/template.off", f"targets={pairs}/targets", "templates=2",
+                                       f"ffd_templates={ffd_templates}"], "template")
+    ids = ["pair-000", "pair-001", "pair-002"]
+    check(matched_ids(log) == ids, f"template run matched {matched_ids(log)}")
     table = read_table()
-    check(sorted(table) == ["pair-000", "pair-001"], f"table rows {sorted(table)}")
+    check(sorted(table) == ids, f"table rows {sorted(table)}")
     for row in table.values():
         check_matched(row)
+    with open(os.path.join(WORKDIR, "out", "templates.log")) as log_file:
+        text = log_file.read()
+    print(text)
+    check("ffd-templates: 3 transforms" in text and re.search(r"[12] modes explain", text), "templates.log")
+    templates = os.path.join(WORKDIR, "out", "templates.tfm")
+    command = [FFD_MATCH, "--source", f"{pairs}/template.off", "--target", f"{pairs}/targets/pair-000.off",
+               "--method", "par", "--templates", templates, "--output", os.path.join(WORKDIR, "par.vtp"),
+               "--grid", "5", "--voxel-size", "4"]
+    result = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    print(result.stdout[-2000:])
+    check(result.returncode == 0 and re.search(r"template weights from .*templates.tfm", result.stdout),
+          "ffd-match --method par did not run with the learned templates")
 
 
 def run_slurm():
