@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """CTest of the batch workflow (workflows/Snakefile) on generated pairs.
 
-  workflow_test.py local|slurm|template SNAKEMAKE FFD_MATCH WORKDIR
+  workflow_test.py local|slurm|template|retry SNAKEMAKE FFD_MATCH WORKDIR
 
 local: 3 generated pairs, one per-pair option, a damaged target (a cut OFF file) and a missing target, run with 2
 cores. The table must hold 5 rows: 3 matched (distance reduced, no folding), the damaged and the missing pair with
@@ -11,6 +11,8 @@ slurm: the same through a single-node Slurm on localhost (workflows/test/local_s
 profile workflows/slurm, on 2 pairs and the damaged one.
 template: one template and a folder of 3 targets (--config template=... targets=...), with templates=2: the learned
 templates (ffd-templates) are read by ffd-match --method par.
+retry: a pair killed on its first attempt is retried and matched, one killed on every attempt is a row with the
+signal; a matched pair whose target is then damaged loses its earlier outputs.
 Prints "PASS: <mode>" at the end; any failed check prints "FAIL: ..." and exits 1.
 """
 import csv
@@ -165,6 +167,50 @@ def run_template_folder():
           "ffd-match --method par did not run with the learned templates")
 
 
+# An ffd-match stand-in for the retry test: killed by SIGKILL on its first call for a pair (a marker in the pair's
+# folder), and on every call for pair-001; otherwise the real ffd-match.
+CRASHING_FFD_MATCH = """#!{python}
+import os, signal, sys
+output = sys.argv[sys.argv.index("--output") + 1]
+marker = os.path.join(os.path.dirname(output), "crashed-once")
+target = sys.argv[sys.argv.index("--target") + 1]
+if "pair-001" in target or not os.path.exists(marker):
+    open(marker, "w").close()
+    os.kill(os.getpid(), signal.SIGKILL)
+os.execv({real!r}, [{real!r}] + sys.argv[1:])
+"""
+
+
+def run_retry():
+    """Snakemake's retries: a crash on the first attempt is retried and the pair matched (attempt 2); a pair that
+    crashes on every attempt is recorded with the signal. Then a matched pair's target is damaged: the re-run records
+    the error and removes the mesh, transform and report of the earlier run."""
+    global FFD_MATCH
+    pairs = make_pairs(2)
+    crashing = os.path.join(WORKDIR, "crashing-ffd-match")
+    with open(crashing, "w") as script:
+        script.write(CRASHING_FFD_MATCH.format(python=sys.executable, real=os.path.abspath(FFD_MATCH)))
+    os.chmod(crashing, 0o755)
+    real, FFD_MATCH = FFD_MATCH, crashing
+    log = snakemake(["--cores", "2"], [f"manifest={pairs}/pairs.csv", "retries=1"], "retry")
+    FFD_MATCH = real
+    check(matched_ids(log).count("pair-000") == 2, f"pair-000 ran {matched_ids(log).count('pair-000')} times, not 2")
+    table = read_table()
+    check_matched(table["pair-000"])
+    check(table["pair-000"]["attempt"] == "2", f"pair-000: attempt {table['pair-000']['attempt']}, expected 2")
+    check(re.fullmatch(r"ffd-match ended by signal SIGKILL \(attempt 2 of 2; see .*ffd-match.log\)",
+                       table["pair-001"]["status"]), f"pair-001: status '{table['pair-001']['status']}'")
+
+    with open(os.path.join(pairs, "targets", "pair-000.off"), "w") as damaged:
+        damaged.write("OFF\n3 1 0\n0 0 0\n")
+    log = snakemake(["--cores", "2"], [f"manifest={pairs}/pairs.csv", "retries=1"], "retry: damaged after a match")
+    check(matched_ids(log) == ["pair-000"], f"after the damage the run matched {matched_ids(log)}")
+    row = read_table()["pair-000"]
+    check(row["status"].startswith("ffd-match: error: ") and row["attempt"] == "1", f"pair-000: {row}")
+    for name in ("deformed.vtp", "transform.tfm", "report.json"):
+        check(not os.path.exists(os.path.join(WORKDIR, "out", "pair-000", name)), f"pair-000: a stale {name} is left")
+
+
 def run_slurm():
     slurm_dir = os.path.join(WORKDIR, "slurm")
     script = (f"source {HERE}/local_slurm.sh; trap slurm_stop EXIT; slurm_start {slurm_dir} || exit 1; "
@@ -177,8 +223,8 @@ def run_slurm():
 
 def main():
     global SNAKEMAKE, FFD_MATCH, WORKDIR
-    if len(sys.argv) != 5 or sys.argv[1] not in ("local", "slurm", "slurm-inside", "template"):
-        fail(f"usage: {sys.argv[0]} local|slurm|template SNAKEMAKE FFD_MATCH WORKDIR")
+    if len(sys.argv) != 5 or sys.argv[1] not in ("local", "slurm", "slurm-inside", "template", "retry"):
+        fail(f"usage: {sys.argv[0]} local|slurm|template|retry SNAKEMAKE FFD_MATCH WORKDIR")
     mode, SNAKEMAKE, FFD_MATCH, WORKDIR = sys.argv[1:]
     if mode != "slurm-inside":
         check(shutil.which(SNAKEMAKE) is not None, f"snakemake not found ('{SNAKEMAKE}'): install Debian's snakemake")
@@ -191,6 +237,8 @@ def main():
         run_failures_and_repair(["--cores", "2"], ["pair-000", "pair-001", "pair-002"], "local")
     elif mode == "template":
         run_template_folder()
+    elif mode == "retry":
+        run_retry()
     elif mode == "slurm":
         if run_slurm() != 0:
             fail("the Slurm run failed (see above)")
