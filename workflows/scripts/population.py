@@ -88,9 +88,9 @@ def plot_population(rows, png_path):
     seconds = [row["seconds"] for row in matched]
     axes[2].hist(seconds, bins=max(1, min(30, int(math.sqrt(len(seconds)) + 1))))
     axes[2].set(xlabel="seconds per pair", ylabel="pairs", title="time")
-    failed = len(rows) - len(matched)
-    figure.suptitle(f"{len(rows)} pairs: {len(matched)} matched, {failed} failed"
-                    + (" (" + ", ".join(row["id"] for row in rows if row["status"] != "ok")[:80] + ")" if failed else ""))
+    failed_ids = ", ".join(row["id"] for row in rows if row["status"] != "ok")
+    title = f"{len(rows)} pairs: {len(matched)} matched, {len(rows) - len(matched)} failed"
+    figure.suptitle(title + (f" ({failed_ids[:80]})" if failed_ids else ""))
     figure.tight_layout()
     figure.savefig(png_path + ".partial.png", dpi=80)
     plt.close(figure)

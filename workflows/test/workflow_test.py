@@ -113,8 +113,8 @@ def run_failures_and_repair(arguments, ids, label):
     check(sorted(table) == sorted(ids + ["damaged", "missing"]), f"table rows {sorted(table)}")
     for pair_id in ids:
         check_matched(table[pair_id])
-    check(re.fullmatch(r"ffd-match: error: .*damaged\.off.*the file ends after [0-9]+ of 320 faces", table["damaged"]["status"]),
-          f"damaged: status '{table['damaged']['status']}'")
+    check(re.fullmatch(r"ffd-match: error: .*damaged\.off.*the file ends after [0-9]+ of 320 faces",
+                       table["damaged"]["status"]), f"damaged: status '{table['damaged']['status']}'")
     check(re.fullmatch(r"ffd-match: error: cannot read target mesh .*missing\.off.*", table["missing"]["status"]),
           f"missing: status '{table['missing']['status']}'")
     check(not os.path.exists(os.path.join(WORKDIR, "out", "damaged", "deformed.vtp")), "damaged: a mesh was left")
