@@ -14,6 +14,8 @@ packages=(
   xvfb xauth                             # off-screen rendering of snapshots
   clang libclang-rt-14-dev               # sanitizer and libFuzzer build (Utilities/SanitizerAndFuzzBuild.sh)
   clang-format-14                        # the format check of CI (Utilities/CheckFormat.sh)
+  snakemake python3-matplotlib           # the batch workflow (workflows/Snakefile) and its summary plot
+  slurm-wlm munge                        # the workflow's Slurm test: a single-node Slurm on localhost
 )
 
 missing=()
