@@ -12,6 +12,7 @@ itk_module(FFDShapeMatching
   ENABLE_SHARED
   DEPENDS
     ITKCommon
+    ITKEigen3
     ITKMesh
     ITKTransform
     ITKTransformFactory
@@ -37,6 +38,9 @@ itk_module(FFDShapeMatching
     ITKGoogleTest
     ITKIOMeta
     ITKIONRRD
+  FACTORY_NAMES
+    MeshIO::StrictText
+    MeshIO::VTKSurface
   DESCRIPTION "${DOCUMENTATION}"
   EXCLUDE_FROM_DEFAULT
 )

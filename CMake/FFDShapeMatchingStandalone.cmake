@@ -70,7 +70,7 @@ foreach(_dep IN LISTS ITK_MODULE_FFDShapeMatching-Test_DEPENDS)
 endforeach()
 list(REMOVE_DUPLICATES _FFDShapeMatching_itk_components)
 find_package(ITK 5.2 REQUIRED COMPONENTS ${_FFDShapeMatching_itk_components})
-include(${ITK_USE_FILE})
+ffd_use_itk()
 
 # Libraries of a list of ITK modules, as ITK's <module>_LIBRARIES variables give them.
 function(_ffd_module_libraries _out)

@@ -1,4 +1,4 @@
-# Finds VTK, the system Eigen and Boost (Graph, header-only) for FFDShapeMatching, in every configure mode.
+# Finds VTK, Boost (Graph, header-only) and nanoflann for FFDShapeMatching, in every configure mode.
 #
 # Sets FFDShapeMatching_VTK_LIBRARIES (what the module library links) and
 # FFDShapeMatching_EXPORT_CODE_BUILD / _INSTALL, which ITK's module system writes
@@ -34,10 +34,6 @@ foreach(_component IN LISTS FFDShapeMatching_VTK_COMPONENTS)
   list(APPEND FFDShapeMatching_VTK_LIBRARIES VTK::${_component})
 endforeach()
 
-# ITK 5.2 bundles an older Eigen under the same names; ITK_USE_SYSTEM_EIGEN (set on
-# every target through the module library) makes ITK's headers use this one.
-find_package(Eigen3 3.4 REQUIRED NO_MODULE)
-
 # Boost Graph's Boykov-Kolmogorov max-flow (header-only; Debian's libboost-graph-dev) for the MRF solver's
 # alpha-expansion moves. Used by src/itkMRFLabelingSolver.cxx only, through its include directory: nothing is
 # linked and no public header includes it.
@@ -54,7 +50,6 @@ find_package(nanoflann 1.4 REQUIRED)
 
 set(_FFDShapeMatching_export_code "
 find_package(VTK 9.1 REQUIRED COMPONENTS ${FFDShapeMatching_VTK_COMPONENTS})
-find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(nanoflann 1.4 REQUIRED)
 ")
 set(FFDShapeMatching_EXPORT_CODE_BUILD "${_FFDShapeMatching_export_code}")

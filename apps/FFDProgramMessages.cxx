@@ -15,6 +15,7 @@
  *  limitations under the License.
  *
  *=========================================================================*/
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "FFDProgramMessages.h"
 
 #include "FFDProgramSupport.h"
@@ -109,7 +110,7 @@ public:
   using Superclass = itk::OutputWindow;
   using Pointer = itk::SmartPointer<Self>;
   itkNewMacro(Self);
-  itkTypeMacro(CollectingITKOutputWindow, itk::OutputWindow);
+  itkOverrideGetNameOfClassMacro(CollectingITKOutputWindow);
 
   void
   DisplayText(const char * text) override

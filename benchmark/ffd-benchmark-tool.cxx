@@ -35,6 +35,7 @@
 //
 // Errors are one line on stderr ("ffd-benchmark-tool: error: ...") and exit code 1.
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "FFDProgramMeshIO.h"
 #include "FFDProgramSupport.h"
 #include "itkApplyTransformToMeshFilter.h"
@@ -115,7 +116,7 @@ public:
   using Pointer = itk::SmartPointer<Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(BoundedDisplacementFieldTransform, DisplacementFieldTransform);
+  itkOverrideGetNameOfClassMacro(BoundedDisplacementFieldTransform);
 
   using Superclass::ComputeJacobianWithRespectToPosition;
 

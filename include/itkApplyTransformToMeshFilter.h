@@ -18,6 +18,7 @@
 #ifndef itkApplyTransformToMeshFilter_h
 #define itkApplyTransformToMeshFilter_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkDataObjectDecorator.h"
 #include "itkMeshToMeshFilter.h"
 #include "itkSpatialJacobianEvaluator.h"
@@ -88,7 +89,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(ApplyTransformToMeshFilter, MeshToMeshFilter);
+  itkOverrideGetNameOfClassMacro(ApplyTransformToMeshFilter);
 
   static constexpr unsigned int PointDimension = TInputMesh::PointDimension;
 
@@ -145,7 +146,7 @@ protected:
   PrintSelf(std::ostream & os, Indent indent) const override;
 
   void
-  VerifyPreconditions() ITKv5_CONST override;
+  VerifyPreconditions() const override;
 
   void
   GenerateData() override;

@@ -124,7 +124,7 @@ ApplyTransformToMeshFilter<TInputMesh, TOutputMesh, TTransform>::PrintSelf(std::
 
 template <typename TInputMesh, typename TOutputMesh, typename TTransform>
 void
-ApplyTransformToMeshFilter<TInputMesh, TOutputMesh, TTransform>::VerifyPreconditions() ITKv5_CONST
+ApplyTransformToMeshFilter<TInputMesh, TOutputMesh, TTransform>::VerifyPreconditions() const
 {
   Superclass::VerifyPreconditions();
   if (this->GetTransform() == nullptr)

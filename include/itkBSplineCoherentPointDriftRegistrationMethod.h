@@ -18,6 +18,7 @@
 #ifndef itkBSplineCoherentPointDriftRegistrationMethod_h
 #define itkBSplineCoherentPointDriftRegistrationMethod_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkBSplineTransform.h"
 #include "itkDataObjectDecorator.h"
 #include "itkProcessObject.h"
@@ -87,7 +88,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(BSplineCoherentPointDriftRegistrationMethod, ProcessObject);
+  itkOverrideGetNameOfClassMacro(BSplineCoherentPointDriftRegistrationMethod);
 
   static constexpr unsigned int Dimension = 3;
 

@@ -28,8 +28,9 @@
 #include "itkSpatialJacobianEvaluator.h"
 #include "itkVectorContainer.h"
 
-#include <Eigen/IterativeLinearSolvers>
-#include <Eigen/Sparse>
+#include "itk_eigen.h"
+#include ITK_EIGEN(IterativeLinearSolvers)
+#include ITK_EIGEN(Sparse)
 
 #include <algorithm>
 #include <array>

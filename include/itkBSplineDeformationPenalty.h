@@ -18,6 +18,7 @@
 #ifndef itkBSplineDeformationPenalty_h
 #define itkBSplineDeformationPenalty_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkBSplineTransform.h"
 #include "itkObject.h"
 #include "itkObjectFactory.h"
@@ -68,7 +69,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(BSplineDeformationPenalty, Object);
+  itkOverrideGetNameOfClassMacro(BSplineDeformationPenalty);
 
   static constexpr unsigned int SpaceDimension = NDimensions;
 

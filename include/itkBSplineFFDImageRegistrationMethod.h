@@ -18,6 +18,7 @@
 #ifndef itkBSplineFFDImageRegistrationMethod_h
 #define itkBSplineFFDImageRegistrationMethod_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkBSplineImageRegistrationMethodBase.h"
 #include "itkFFDShapeMatchingEnums.h"
 #include <string>
@@ -69,7 +70,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(BSplineFFDImageRegistrationMethod, BSplineImageRegistrationMethodBase);
+  itkOverrideGetNameOfClassMacro(BSplineFFDImageRegistrationMethod);
 
   static constexpr unsigned int ImageDimension = TFixedImage::ImageDimension;
 
@@ -158,7 +159,7 @@ protected:
   ~BSplineFFDImageRegistrationMethod() override = default;
 
   void
-  VerifyPreconditions() ITKv5_CONST override;
+  VerifyPreconditions() const override;
 
   void
   GenerateData() override;

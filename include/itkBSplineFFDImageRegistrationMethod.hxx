@@ -18,6 +18,7 @@
 #ifndef itkBSplineFFDImageRegistrationMethod_hxx
 #define itkBSplineFFDImageRegistrationMethod_hxx
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkBSplineFFDImageRegistrationMethod.h"
 #include "itkAffineTransform.h"
 #include "itkBSplineTransformInitializer.h"
@@ -42,7 +43,7 @@ namespace detail
 {
 /** \class UnitScalesLBFGSBOptimizerv4
  * \brief LBFGSBOptimizerv4 that takes the unit scales ImageRegistrationMethodv4 hands it at every level without
- * a warning.
+ * a warning, and keeps them sized for the current level.
  *
  * LBFGSB works without parameter scales, and ITK 5.2's LBFGSBOptimizerv4 says so on the console whenever scales
  * are set, which ImageRegistrationMethodv4 does at each resolution level. Users of the module's registration would
@@ -58,7 +59,7 @@ public:
   using Superclass = LBFGSBOptimizerv4;
   using Pointer = SmartPointer<Self>;
   itkNewMacro(Self);
-  itkTypeMacro(UnitScalesLBFGSBOptimizerv4, LBFGSBOptimizerv4);
+  itkOverrideGetNameOfClassMacro(UnitScalesLBFGSBOptimizerv4);
 
   void
   SetScales(const ScalesType & scales) override
@@ -74,6 +75,21 @@ public:
     this->m_Scales.SetSize(this->m_Metric->GetNumberOfLocalParameters());
     this->m_Scales.Fill(1.0);
     this->m_ScalesAreIdentity = true;
+  }
+
+  /** Unit scales follow the metric's parameters when a level refines the grid: ITK 5.4's ImageRegistrationMethodv4
+   * does not hand the optimizer new scales at each level (5.2's does), and the base class refuses scales of the
+   * previous level's size. Scales other than one are left to the base class's check. */
+  void
+  StartOptimization(bool doOnlyInitialization = false) override
+  {
+    if (this->m_Metric && this->m_ScalesAreIdentity &&
+        this->m_Scales.Size() != this->m_Metric->GetNumberOfLocalParameters())
+    {
+      this->m_Scales.SetSize(this->m_Metric->GetNumberOfLocalParameters());
+      this->m_Scales.Fill(1.0);
+    }
+    Superclass::StartOptimization(doOnlyInitialization);
   }
 
 protected:
@@ -94,7 +110,7 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::GetMeshSizeAtLevel
 
 template <typename TFixedImage, typename TMovingImage>
 void
-BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::VerifyPreconditions() ITKv5_CONST
+BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::VerifyPreconditions() const
 {
   Superclass::VerifyPreconditions();
   this->VerifyImageInputs(m_NumberOfLevels);
@@ -220,8 +236,8 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunBSplineStage(
   auto regularized = RegularizedMetricType::New();
   regularized->SetMeasure(m_Metric);
   regularized->SetNumberOfHistogramBins(m_NumberOfHistogramBins);
-  regularized->GetPenalty()->SetBendingEnergyWeight(m_BendingEnergyWeight);
-  regularized->GetPenalty()->SetFoldingPenaltyWeight(m_FoldingPenaltyWeight);
+  regularized->GetModifiablePenalty()->SetBendingEnergyWeight(m_BendingEnergyWeight);
+  regularized->GetModifiablePenalty()->SetFoldingPenaltyWeight(m_FoldingPenaltyWeight);
   typename ImageMetricType::Pointer metric = regularized.GetPointer();
   if (const auto * mask = this->GetFixedImageMask())
   {

@@ -18,6 +18,7 @@
 #ifndef itkBSplineImageRegistrationMethodBase_h
 #define itkBSplineImageRegistrationMethodBase_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkBSplineTransform.h"
 #include "itkDataObjectDecorator.h"
 #include "itkImage.h"
@@ -58,7 +59,7 @@ public:
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
-  itkTypeMacro(BSplineImageRegistrationMethodBase, ProcessObject);
+  itkOverrideGetNameOfClassMacro(BSplineImageRegistrationMethodBase);
 
   static constexpr unsigned int ImageDimension = TFixedImage::ImageDimension;
 

@@ -18,7 +18,8 @@
 #ifndef itkBSplineLatticeRegularization_h
 #define itkBSplineLatticeRegularization_h
 
-#include <Eigen/Sparse>
+#include "itk_eigen.h"
+#include ITK_EIGEN(Sparse)
 #include <array>
 #include <cmath>
 #include <vector>

@@ -18,6 +18,7 @@
 #ifndef itkBSplineMRFImageRegistrationMethod_h
 #define itkBSplineMRFImageRegistrationMethod_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkBSplineMRFImageRegistrationMethodEnums.h"
 #include "itkBSplineImageRegistrationMethodBase.h"
 #include "itkBSplineMRFUnaryCosts.h"
@@ -116,7 +117,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(BSplineMRFImageRegistrationMethod, BSplineImageRegistrationMethodBase);
+  itkOverrideGetNameOfClassMacro(BSplineMRFImageRegistrationMethod);
 
   static constexpr unsigned int ImageDimension = TFixedImage::ImageDimension;
   static_assert(ImageDimension == 3 && TMovingImage::ImageDimension == 3, "The MRF registration is 3-D");
@@ -267,7 +268,7 @@ protected:
   ~BSplineMRFImageRegistrationMethod() override = default;
 
   void
-  VerifyPreconditions() ITKv5_CONST override;
+  VerifyPreconditions() const override;
 
   void
   GenerateData() override;

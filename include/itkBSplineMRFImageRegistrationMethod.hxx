@@ -25,6 +25,7 @@
 #include "itkCubicBSplineKernel.h"
 #include "itkDiscreteGaussianImageFilter.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
+#include "itkMatrixDeterminant.h"
 #include "itkMultiThreaderBase.h"
 #include <functional>
 #include "itkShrinkImageFilter.h"
@@ -103,7 +104,7 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::MakeLabels(double 
 
 template <typename TFixedImage, typename TMovingImage>
 void
-BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::VerifyPreconditions() ITKv5_CONST
+BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::VerifyPreconditions() const
 {
   Superclass::VerifyPreconditions();
   if (m_NumberOfControlPointsPerAxis < 4)
@@ -600,7 +601,7 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::MinimumJacobianDet
               jacobian[d][k] = sum;
             }
           }
-          minimum = std::min(minimum, vnl_determinant(jacobian.GetVnlMatrix()));
+          minimum = std::min(minimum, detail::MatrixDeterminant(jacobian));
         }
       }
     }

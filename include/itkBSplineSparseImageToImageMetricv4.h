@@ -18,6 +18,7 @@
 #ifndef itkBSplineSparseImageToImageMetricv4_h
 #define itkBSplineSparseImageToImageMetricv4_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkBSplineCompositeTransformParts.h"
 #include "itkBSplineTransform.h"
 #include "itkFFDShapeMatchingEnums.h"
@@ -53,7 +54,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(BSplineSparseMetricUnusedThreader, ImageToImageMetricv4GetValueAndDerivativeThreader);
+  itkOverrideGetNameOfClassMacro(BSplineSparseMetricUnusedThreader);
 
   using typename Superclass::VirtualIndexType;
   using typename Superclass::VirtualPointType;
@@ -164,7 +165,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(BSplineSparseImageToImageMetricv4, ImageToImageMetricv4);
+  itkOverrideGetNameOfClassMacro(BSplineSparseImageToImageMetricv4);
 
   using typename Superclass::MeasureType;
   using typename Superclass::DerivativeType;

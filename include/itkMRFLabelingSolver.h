@@ -18,6 +18,7 @@
 #ifndef itkMRFLabelingSolver_h
 #define itkMRFLabelingSolver_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "FFDShapeMatchingExport.h"
 #include "itkNumericTraits.h"
 #include "itkObject.h"
@@ -113,7 +114,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(MRFLabelingSolver, Object);
+  itkOverrideGetNameOfClassMacro(MRFLabelingSolver);
 
   using LabelType = unsigned int;
   using LabelingType = std::vector<LabelType>;

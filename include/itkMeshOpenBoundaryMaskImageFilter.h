@@ -18,6 +18,7 @@
 #ifndef itkMeshOpenBoundaryMaskImageFilter_h
 #define itkMeshOpenBoundaryMaskImageFilter_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkImageToImageFilter.h"
 #include "itkMesh.h"
 
@@ -52,7 +53,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(MeshOpenBoundaryMaskImageFilter, ImageToImageFilter);
+  itkOverrideGetNameOfClassMacro(MeshOpenBoundaryMaskImageFilter);
 
   using MaskImageType = TMaskImage;
   using MeshType = TMesh;

@@ -18,6 +18,7 @@
 #ifndef itkMeshPoseRegistrationMethod_h
 #define itkMeshPoseRegistrationMethod_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkDataObjectDecorator.h"
 #include "itkFFDShapeMatchingEnums.h"
 #include "itkMatrix.h"
@@ -93,7 +94,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(MeshPoseRegistrationMethod, ProcessObject);
+  itkOverrideGetNameOfClassMacro(MeshPoseRegistrationMethod);
 
   static constexpr unsigned int Dimension = TFixedMesh::PointDimension;
   static_assert(Dimension == 3 && TMovingMesh::PointDimension == 3, "MeshPoseRegistrationMethod poses 3-D meshes.");
@@ -216,7 +217,7 @@ protected:
   MakeOutput(DataObjectPointerArraySizeType index) override;
 
   void
-  VerifyPreconditions() ITKv5_CONST override;
+  VerifyPreconditions() const override;
 
   void
   GenerateData() override;

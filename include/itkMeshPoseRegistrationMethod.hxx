@@ -27,8 +27,9 @@
 #include "itkSimilarity3DTransform.h"
 #include "itkVersorRigid3DTransform.h"
 
-#include <Eigen/Dense>
-#include <Eigen/Geometry>
+#include "itk_eigen.h"
+#include ITK_EIGEN(Dense)
+#include ITK_EIGEN(Geometry)
 
 #include <algorithm>
 #include <array>
@@ -514,7 +515,7 @@ MeshPoseRegistrationMethod<TFixedMesh, TMovingMesh>::GetTransformOutput() const 
 
 template <typename TFixedMesh, typename TMovingMesh>
 void
-MeshPoseRegistrationMethod<TFixedMesh, TMovingMesh>::VerifyPreconditions() ITKv5_CONST
+MeshPoseRegistrationMethod<TFixedMesh, TMovingMesh>::VerifyPreconditions() const
 {
   Superclass::VerifyPreconditions();
   if (m_PoseType != PoseTypeEnum::Rigid && m_PoseType != PoseTypeEnum::Similarity && m_PoseType != PoseTypeEnum::Affine)

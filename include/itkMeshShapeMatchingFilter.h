@@ -18,6 +18,7 @@
 #ifndef itkMeshShapeMatchingFilter_h
 #define itkMeshShapeMatchingFilter_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkApplyTransformToMeshFilter.h"
 #include "itkCompositeTransform.h"
 #include "itkBSplineCoherentPointDriftRegistrationMethod.h"
@@ -95,7 +96,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(MeshShapeMatchingFilter, MeshToMeshFilter);
+  itkOverrideGetNameOfClassMacro(MeshShapeMatchingFilter);
 
   static constexpr unsigned int Dimension = TMesh::PointDimension;
   static_assert(Dimension == 3, "MeshShapeMatchingFilter matches 3-D meshes.");
@@ -299,7 +300,7 @@ protected:
   MakeOutput(DataObjectPointerArraySizeType index) override;
 
   void
-  VerifyPreconditions() ITKv5_CONST override;
+  VerifyPreconditions() const override;
 
   void
   GenerateData() override;

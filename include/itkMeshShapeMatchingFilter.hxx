@@ -120,7 +120,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::CheckOverlap(const MeshType * source, co
 
 template <typename TMesh, typename TImage>
 void
-MeshShapeMatchingFilter<TMesh, TImage>::VerifyPreconditions() ITKv5_CONST
+MeshShapeMatchingFilter<TMesh, TImage>::VerifyPreconditions() const
 {
   Superclass::VerifyPreconditions();
   const bool usesTemplates =

@@ -18,6 +18,7 @@
 #ifndef itkMeshSurfaceDistanceCalculator_h
 #define itkMeshSurfaceDistanceCalculator_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkObject.h"
 #include "itkObjectFactory.h"
 #include "itkTriangleBoundingVolumeHierarchy.h"
@@ -94,7 +95,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(MeshSurfaceDistanceCalculator, Object);
+  itkOverrideGetNameOfClassMacro(MeshSurfaceDistanceCalculator);
 
   using SourceMeshType = TSourceMesh;
   using TargetMeshType = TTargetMesh;

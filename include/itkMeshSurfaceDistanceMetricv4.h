@@ -18,6 +18,7 @@
 #ifndef itkMeshSurfaceDistanceMetricv4_h
 #define itkMeshSurfaceDistanceMetricv4_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkBSplineInterpolateImageFunction.h"
 #include "itkImage.h"
 #include "itkObjectToObjectMetric.h"
@@ -106,7 +107,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(MeshSurfaceDistanceMetricv4, ObjectToObjectMetric);
+  itkOverrideGetNameOfClassMacro(MeshSurfaceDistanceMetricv4);
 
   using FixedMeshType = TFixedMesh;
   using MovingMeshType = TMovingMesh;

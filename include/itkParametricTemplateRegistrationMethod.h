@@ -18,6 +18,7 @@
 #ifndef itkParametricTemplateRegistrationMethod_h
 #define itkParametricTemplateRegistrationMethod_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkDataObjectDecorator.h"
 #include "itkImage.h"
 #include "itkMeshSurfaceDistanceMetricv4.h"
@@ -143,7 +144,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(ParametricTemplateRegistrationMethod, ProcessObject);
+  itkOverrideGetNameOfClassMacro(ParametricTemplateRegistrationMethod);
 
   using FixedMeshType = TFixedMesh;
   using MovingMeshType = TMovingMesh;
@@ -285,7 +286,7 @@ protected:
   ~ParametricTemplateRegistrationMethod() override = default;
 
   void
-  VerifyPreconditions() ITKv5_CONST override;
+  VerifyPreconditions() const override;
 
   void
   GenerateData() override;

@@ -75,7 +75,7 @@ ParametricTemplateRegistrationMethod<TFixedMesh, TMovingMesh, TDistanceImage>::G
 
 template <typename TFixedMesh, typename TMovingMesh, typename TDistanceImage>
 void
-ParametricTemplateRegistrationMethod<TFixedMesh, TMovingMesh, TDistanceImage>::VerifyPreconditions() ITKv5_CONST
+ParametricTemplateRegistrationMethod<TFixedMesh, TMovingMesh, TDistanceImage>::VerifyPreconditions() const
 {
   Superclass::VerifyPreconditions();
   if (this->GetMovingMesh() == nullptr && this->GetMovingDistanceImage() == nullptr)

@@ -18,6 +18,7 @@
 #ifndef itkParametricTemplateTransform_h
 #define itkParametricTemplateTransform_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkBSplineTransform.h"
 #include "itkPrincipalComponents.h"
 #include "itkSpatialJacobianEvaluator.h"
@@ -168,7 +169,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(ParametricTemplateTransform, Transform);
+  itkOverrideGetNameOfClassMacro(ParametricTemplateTransform);
 
   static constexpr unsigned int SpaceDimension = NDimensions;
 

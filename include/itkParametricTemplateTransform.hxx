@@ -23,8 +23,9 @@
 #include "itkTransformFileChecks.h"
 #include "itkImageRegionIteratorWithIndex.h"
 #include "itkPrincipalComponents.h"
-#include <Eigen/IterativeLinearSolvers>
-#include <Eigen/Sparse>
+#include "itk_eigen.h"
+#include ITK_EIGEN(IterativeLinearSolvers)
+#include ITK_EIGEN(Sparse)
 #include <algorithm>
 #include <cmath>
 
@@ -698,16 +699,14 @@ ParametricTemplateTransform<TParametersValueType, NDimensions>::ComputeJacobianW
 {
   jacobian.SetSize(NDimensions, this->GetNumberOfParameters());
   jacobian.Fill(0.0);
-  typename BSplineTransformType::WeightsType             weights(m_GridTransform->GetNumberOfWeights());
-  typename BSplineTransformType::ParameterIndexArrayType indices(m_GridTransform->GetNumberOfWeights());
-  OutputPointType                                        mapped;
-  bool                                                   inside = false;
-  m_GridTransform->TransformPoint(point, mapped, weights, indices, inside);
-  if (!inside)
+  detail::BSplineSupportArrays<BSplineTransformType> support(*m_GridTransform);
+  if (!support.Evaluate(*m_GridTransform, point))
   {
     return;
   }
-  for (unsigned int j = 0; j < weights.GetSize(); ++j)
+  const auto & weights = support.Weights;
+  const auto & indices = support.Indices;
+  for (unsigned int j = 0; j < weights.Size(); ++j)
   {
     const SizeValueType node = indices[j];
     const double        weight = weights[j];
@@ -735,16 +734,14 @@ ParametricTemplateTransform<TParametersValueType, NDimensions>::AccumulateJacobi
     itkExceptionMacro(<< "The derivative has " << derivative.GetSize() << " entries, not "
                       << this->GetNumberOfParameters());
   }
-  typename BSplineTransformType::WeightsType             weights(m_GridTransform->GetNumberOfWeights());
-  typename BSplineTransformType::ParameterIndexArrayType indices(m_GridTransform->GetNumberOfWeights());
-  OutputPointType                                        mapped;
-  bool                                                   inside = false;
-  m_GridTransform->TransformPoint(point, mapped, weights, indices, inside);
-  if (!inside)
+  detail::BSplineSupportArrays<BSplineTransformType> support(*m_GridTransform);
+  if (!support.Evaluate(*m_GridTransform, point))
   {
     return;
   }
-  for (unsigned int j = 0; j < weights.GetSize(); ++j)
+  const auto & weights = support.Weights;
+  const auto & indices = support.Indices;
+  for (unsigned int j = 0; j < weights.Size(); ++j)
   {
     const SizeValueType node = indices[j];
     const double        weight = factor * weights[j];

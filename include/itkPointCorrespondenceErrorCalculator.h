@@ -18,6 +18,7 @@
 #ifndef itkPointCorrespondenceErrorCalculator_h
 #define itkPointCorrespondenceErrorCalculator_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkMeshSurfaceDistanceCalculator.h"
 #include "itkObject.h"
 #include "itkObjectFactory.h"
@@ -59,7 +60,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(PointCorrespondenceErrorCalculator, Object);
+  itkOverrideGetNameOfClassMacro(PointCorrespondenceErrorCalculator);
 
   using MovedMeshType = TMovedMesh;
   using ReferenceMeshType = TReferenceMesh;

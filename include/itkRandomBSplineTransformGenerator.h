@@ -18,6 +18,7 @@
 #ifndef itkRandomBSplineTransformGenerator_h
 #define itkRandomBSplineTransformGenerator_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkBSplineTransform.h"
 #include "itkImageBase.h"
 #include "itkObject.h"
@@ -108,7 +109,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(RandomBSplineTransformGenerator, Object);
+  itkOverrideGetNameOfClassMacro(RandomBSplineTransformGenerator);
 
   using TransformType = BSplineTransform<TParametersValueType, NDimensions, 3>;
   using TransformPointer = typename TransformType::Pointer;

@@ -21,7 +21,7 @@
 #include "itkRandomBSplineTransformGenerator.h"
 #include "itkMersenneTwisterRandomVariateGenerator.h"
 #include "itkSpatialJacobianEvaluator.h"
-#include "vnl/algo/vnl_determinant.h"
+#include "itkMatrixDeterminant.h"
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -93,7 +93,7 @@ RandomBSplineTransformGenerator<TParametersValueType, NDimensions>::Generate()
   typename TransformType::ParametersType parameters(numberOfParameters);
 
   auto random = Statistics::MersenneTwisterRandomVariateGenerator::New();
-  random->Initialize(m_Seed);
+  random->SetSeed(m_Seed);
   if (m_Noise == NoiseEnum::ClippedGaussian)
   {
     const double variance = m_Sigma * m_Sigma;
@@ -217,7 +217,7 @@ RandomBSplineTransformGenerator<TParametersValueType, NDimensions>::CheckJacobia
     const Vector<double, NDimensions> offset = m_Direction * local;
     PointType                         point = m_Origin + offset;
     evaluator.Evaluate(point, jacobian);
-    const double determinant = vnl_determinant(jacobian.GetVnlMatrix());
+    const double determinant = detail::MatrixDeterminant(jacobian);
     m_MinimumJacobianDeterminant = std::min(m_MinimumJacobianDeterminant, determinant);
     m_MaximumJacobianDeterminant = std::max(m_MaximumJacobianDeterminant, determinant);
   }

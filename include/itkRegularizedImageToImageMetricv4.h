@@ -18,6 +18,7 @@
 #ifndef itkRegularizedImageToImageMetricv4_h
 #define itkRegularizedImageToImageMetricv4_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkBSplineDeformationPenalty.h"
 #include "itkCompositeTransform.h"
 
@@ -42,7 +43,7 @@ namespace itk
  * using MetricType = itk::RegularizedImageToImageMetricv4<
  *   itk::MattesMutualInformationImageToImageMetricv4<ImageType, ImageType>>;
  * auto metric = MetricType::New();
- * metric->GetPenalty()->SetBendingEnergyWeight(0.01);
+ * metric->GetModifiablePenalty()->SetBendingEnergyWeight(0.01);
  * registration->SetMetric(metric);
  * \endcode
  *
@@ -61,7 +62,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(RegularizedImageToImageMetricv4, TImageToImageMetric);
+  itkOverrideGetNameOfClassMacro(RegularizedImageToImageMetricv4);
 
   using MeasureType = typename Superclass::MeasureType;
   using DerivativeType = typename Superclass::DerivativeType;

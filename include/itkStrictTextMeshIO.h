@@ -18,6 +18,7 @@
 #ifndef itkStrictTextMeshIO_h
 #define itkStrictTextMeshIO_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "FFDShapeMatchingExport.h"
 #include "itkMeshIOBase.h"
 
@@ -108,7 +109,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(StrictTextMeshIO, MeshIOBase);
+  itkOverrideGetNameOfClassMacro(StrictTextMeshIO);
 
   /*-------- Reading ----- */
 

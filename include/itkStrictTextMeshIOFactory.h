@@ -18,6 +18,7 @@
 #ifndef itkStrictTextMeshIOFactory_h
 #define itkStrictTextMeshIOFactory_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "FFDShapeMatchingExport.h"
 #include "itkObjectFactoryBase.h"
 
@@ -66,7 +67,7 @@ public:
   itkFactorylessNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(StrictTextMeshIOFactory, ObjectFactoryBase);
+  itkOverrideGetNameOfClassMacro(StrictTextMeshIOFactory);
 
   /** Registers one factory of this type at the front of the factory list, ahead of ITK's own
    * OFF, OBJ and VTK mesh IO factories (each call registers one more;

@@ -18,6 +18,7 @@
 #ifndef itkTransformToJacobianDeterminantImageFilter_h
 #define itkTransformToJacobianDeterminantImageFilter_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkDataObjectDecorator.h"
 #include "itkImageSource.h"
 #include "itkSpatialJacobianEvaluator.h"
@@ -58,7 +59,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(TransformToJacobianDeterminantImageFilter, ImageSource);
+  itkOverrideGetNameOfClassMacro(TransformToJacobianDeterminantImageFilter);
 
   static constexpr unsigned int ImageDimension = TOutputImage::ImageDimension;
 
@@ -129,7 +130,7 @@ protected:
   PrintSelf(std::ostream & os, Indent indent) const override;
 
   void
-  VerifyPreconditions() ITKv5_CONST override;
+  VerifyPreconditions() const override;
 
   void
   GenerateOutputInformation() override;

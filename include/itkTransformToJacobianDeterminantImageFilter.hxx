@@ -21,7 +21,7 @@
 #include "itkTransformToJacobianDeterminantImageFilter.h"
 #include "itkImageRegionIteratorWithIndex.h"
 #include "itkTotalProgressReporter.h"
-#include "vnl/algo/vnl_determinant.h"
+#include "itkMatrixDeterminant.h"
 #include <limits>
 
 namespace itk
@@ -55,7 +55,7 @@ TransformToJacobianDeterminantImageFilter<TOutputImage, TTransform>::PrintSelf(s
 
 template <typename TOutputImage, typename TTransform>
 void
-TransformToJacobianDeterminantImageFilter<TOutputImage, TTransform>::VerifyPreconditions() ITKv5_CONST
+TransformToJacobianDeterminantImageFilter<TOutputImage, TTransform>::VerifyPreconditions() const
 {
   Superclass::VerifyPreconditions();
   if (this->GetTransform() == nullptr)
@@ -122,7 +122,7 @@ TransformToJacobianDeterminantImageFilter<TOutputImage, TTransform>::DynamicThre
   {
     output->TransformIndexToPhysicalPoint(it.GetIndex(), point);
     m_JacobianEvaluator.Evaluate(point, jacobian);
-    const double determinant = vnl_determinant(jacobian.GetVnlMatrix());
+    const double determinant = detail::MatrixDeterminant(jacobian);
     it.Set(static_cast<PixelType>(determinant));
     minimum = std::min(minimum, determinant);
     maximum = std::max(maximum, determinant);

@@ -18,6 +18,7 @@
 #ifndef itkTriangleMeshToVoxelImageFilter_h
 #define itkTriangleMeshToVoxelImageFilter_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "itkImageSource.h"
 #include "itkImageBase.h"
 #include "itkScanLineTriangleSet.h"
@@ -197,7 +198,7 @@ public:
   using ConstPointer = SmartPointer<const Self>;
 
   itkNewMacro(Self);
-  itkTypeMacro(TriangleMeshToVoxelImageFilter, ImageSource);
+  itkOverrideGetNameOfClassMacro(TriangleMeshToVoxelImageFilter);
 
   static constexpr unsigned int OutputImageDimension = TOutputImage::ImageDimension;
 
@@ -330,7 +331,7 @@ protected:
   PrintSelf(std::ostream & os, Indent indent) const override;
 
   void
-  VerifyPreconditions() ITKv5_CONST override;
+  VerifyPreconditions() const override;
 
   void
   GenerateOutputInformation() override;

@@ -191,7 +191,7 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::ComputeOutputGeometry(
 
 template <typename TInputMesh, typename TOutputImage>
 void
-TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::VerifyPreconditions() ITKv5_CONST
+TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::VerifyPreconditions() const
 {
   Superclass::VerifyPreconditions();
 
@@ -719,7 +719,7 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::GenerateByScanLines(co
   ImageScanlineIterator<OutputImageType> it(output, region);
   while (!it.IsAtEnd())
   {
-    auto       index = it.GetIndex();
+    auto       index = detail::IteratorIndex(it);
     const long j = index[1];
     const long k = index[2];
     for (size_t i = 0; i < count; ++i)

@@ -18,6 +18,7 @@
 #ifndef itkVTKSurfaceMeshIO_h
 #define itkVTKSurfaceMeshIO_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "FFDShapeMatchingExport.h"
 #include "itkMeshIOBase.h"
 
@@ -99,7 +100,7 @@ public:
   itkNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(VTKSurfaceMeshIO, MeshIOBase);
+  itkOverrideGetNameOfClassMacro(VTKSurfaceMeshIO);
 
   /** Name of the point data array: the array read as point data when the file has a
    * single-component array of that name (otherwise the single-component active scalars are

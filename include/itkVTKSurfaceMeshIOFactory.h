@@ -18,6 +18,7 @@
 #ifndef itkVTKSurfaceMeshIOFactory_h
 #define itkVTKSurfaceMeshIOFactory_h
 
+#include "itkFFDShapeMatchingCompatibility.h"
 #include "FFDShapeMatchingExport.h"
 #include "itkObjectFactoryBase.h"
 
@@ -62,7 +63,7 @@ public:
   itkFactorylessNewMacro(Self);
 
   /** Run-time type information (and related methods). */
-  itkTypeMacro(VTKSurfaceMeshIOFactory, ObjectFactoryBase);
+  itkOverrideGetNameOfClassMacro(VTKSurfaceMeshIOFactory);
 
   /** Registers one factory of this type (each call registers one more, as ITK's IO factories
    * do; RegisterFFDShapeMatchingMeshIOFactories() registers only what is missing). */

@@ -86,7 +86,7 @@ VTKPolyDataToMeshImplementation(vtkPolyData *        polyData,
     polyData->GetPoint(i, coordinates);
     for (unsigned int j = 0; j < 3; ++j)
     {
-      point[j] = static_cast<typename ConversionMeshType::CoordRepType>(coordinates[j]);
+      point[j] = static_cast<typename ConversionMeshType::PointType::ValueType>(coordinates[j]);
     }
     mesh->SetPoint(static_cast<PointIdentifier>(i), point);
   }

@@ -18,7 +18,8 @@
 #include "itkPrincipalComponents.h"
 #include "itkMacro.h"
 
-#include <Eigen/SVD>
+#include "itk_eigen.h"
+#include ITK_EIGEN(SVD)
 #include <cmath>
 
 namespace itk

@@ -48,4 +48,18 @@ StrictTextMeshIOFactory::PrintSelf(std::ostream & os, Indent indent) const
 {
   Superclass::PrintSelf(os, indent);
 }
+
+// Called by the factory registration that ITK generates for the modules a project loads (itk-module.cmake's
+// FACTORY_NAMES MeshIO::StrictText), as ITK's own mesh IO factories are.
+static bool StrictTextMeshIOFactoryHasBeenRegistered;
+
+void FFDShapeMatching_EXPORT
+StrictTextMeshIOFactoryRegister__Private()
+{
+  if (!StrictTextMeshIOFactoryHasBeenRegistered)
+  {
+    StrictTextMeshIOFactoryHasBeenRegistered = true;
+    StrictTextMeshIOFactory::RegisterOneFactory();
+  }
+}
 } // namespace itk

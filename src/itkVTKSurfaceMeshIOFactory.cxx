@@ -48,4 +48,18 @@ VTKSurfaceMeshIOFactory::PrintSelf(std::ostream & os, Indent indent) const
 {
   Superclass::PrintSelf(os, indent);
 }
+
+// Called by the factory registration that ITK generates for the modules a project loads (itk-module.cmake's
+// FACTORY_NAMES MeshIO::VTKSurface), as ITK's own mesh IO factories are.
+static bool VTKSurfaceMeshIOFactoryHasBeenRegistered;
+
+void FFDShapeMatching_EXPORT
+VTKSurfaceMeshIOFactoryRegister__Private()
+{
+  if (!VTKSurfaceMeshIOFactoryHasBeenRegistered)
+  {
+    VTKSurfaceMeshIOFactoryHasBeenRegistered = true;
+    VTKSurfaceMeshIOFactory::RegisterOneFactory();
+  }
+}
 } // namespace itk

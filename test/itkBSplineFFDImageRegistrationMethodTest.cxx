@@ -113,9 +113,9 @@ CheckRegularizedMetricDerivative(const ImageType * fixed, const ImageType * movi
   auto plain = PlainMetricType::New();
   auto regularized = MetricType::New();
   ITK_EXERCISE_BASIC_OBJECT_METHODS(regularized, RegularizedImageToImageMetricv4, MeanSquaresImageToImageMetricv4);
-  regularized->GetPenalty()->SetBendingEnergyWeight(0.7);
-  regularized->GetPenalty()->SetFoldingPenaltyWeight(5.0);
-  regularized->GetPenalty()->SetFoldingThreshold(0.9);
+  regularized->GetModifiablePenalty()->SetBendingEnergyWeight(0.7);
+  regularized->GetModifiablePenalty()->SetFoldingPenaltyWeight(5.0);
+  regularized->GetModifiablePenalty()->SetFoldingThreshold(0.9);
   for (PlainMetricType * metric :
        { static_cast<PlainMetricType *>(plain), static_cast<PlainMetricType *>(regularized) })
   {

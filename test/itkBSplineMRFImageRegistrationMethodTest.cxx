@@ -107,7 +107,7 @@ MakeCase(unsigned int size, double radius, double rmsDisplacement, unsigned int 
   generator->SetRMSDisplacement(rmsDisplacement);
   generator->SetSeed(7);
   generator->Generate();
-  result.Truth = generator->GetTransform();
+  result.Truth = generator->GetModifiableTransform();
 
   result.Mask = MaskType::New();
   result.Mask->CopyInformation(result.Fixed);

@@ -22,6 +22,7 @@
 #include "itkMesh.h"
 #include "itkMeshFileReader.h"
 #include "itkMeshFileWriter.h"
+#include "itkObjectFactoryBase.h"
 #include "itkRegisterFFDShapeMatchingMeshIOFactories.h"
 #include "itkTriangleCell.h"
 #include "gtest/gtest.h"
@@ -200,4 +201,45 @@ TEST(MeshFileIO, RefusesDeeplyNestedVTP)
     EXPECT_EQ(std::string(error.GetDescription()).find("nests elements"), std::string::npos) << error.GetDescription();
   }
   std::filesystem::remove_all(folder);
+}
+
+// The functions ITK's generated factory registration calls for itk-module.cmake's FACTORY_NAMES (MeshIO::StrictText,
+// MeshIO::VTKSurface): each registers its factory once, however often it is called.
+namespace itk
+{
+void
+StrictTextMeshIOFactoryRegister__Private();
+void
+VTKSurfaceMeshIOFactoryRegister__Private();
+} // namespace itk
+
+namespace
+{
+size_t
+CountRegisteredFactories(const char * className)
+{
+  size_t count = 0;
+  for (const auto & factory : itk::ObjectFactoryBase::GetRegisteredFactories())
+  {
+    count += std::string(factory->GetNameOfClass()) == className ? 1 : 0;
+  }
+  return count;
+}
+} // namespace
+
+TEST(MeshFileIO, FactoryNamesRegisterEachFactoryOnce)
+{
+  const size_t strictBefore = CountRegisteredFactories("StrictTextMeshIOFactory");
+  const size_t surfaceBefore = CountRegisteredFactories("VTKSurfaceMeshIOFactory");
+  for (int call = 0; call < 3; ++call)
+  {
+    itk::StrictTextMeshIOFactoryRegister__Private();
+    itk::VTKSurfaceMeshIOFactoryRegister__Private();
+  }
+  const size_t strictAfter = CountRegisteredFactories("StrictTextMeshIOFactory");
+  const size_t surfaceAfter = CountRegisteredFactories("VTKSurfaceMeshIOFactory");
+  EXPECT_GE(strictAfter, 1u);
+  EXPECT_GE(surfaceAfter, 1u);
+  EXPECT_LE(strictAfter - strictBefore, 1u);
+  EXPECT_LE(surfaceAfter - surfaceBefore, 1u);
 }

@@ -94,7 +94,7 @@ MakeTransform()
   direction.SetIdentity();
   transform->SetTransformDomain(origin, extent, meshSize, direction);
   auto random = itk::Statistics::MersenneTwisterRandomVariateGenerator::New();
-  random->Initialize(7);
+  random->SetSeed(7);
   std::vector<TransformType::CoefficientVectorType> templates(4);
   for (auto & values : templates)
   {

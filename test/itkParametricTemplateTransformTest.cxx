@@ -284,7 +284,7 @@ itkParametricTemplateTransformTest(int argc, char * argv[])
   itk::RegisterFFDShapeMatchingTransforms();
   itk::RegisterFFDShapeMatchingTransforms(); // a second call changes nothing
   auto random = RandomType::New();
-  random->Initialize(20261122);
+  random->SetSeed(20261122);
 
   auto transform = TransformType::New();
   ITK_EXERCISE_BASIC_OBJECT_METHODS(transform, ParametricTemplateTransform, Transform);
