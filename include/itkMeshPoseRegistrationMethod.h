@@ -32,7 +32,7 @@ namespace itk
 {
 /** \class MeshPoseRegistrationMethod
  * \brief Finds the rigid, similarity or affine pose between a source mesh and a possibly partial target mesh, from
- * any start: a global search over rotations and scales, refined by trimmed ICP.
+ * any start: a global search over rotations and scales, refined by trimmed ICP and polished on exact distances.
  *
  * The fixed mesh is the target (it may be a cut-out, open part of the source), the moving mesh the source. As every
  * stage of the module, the result maps **target space to source space** (ITK's fixed-to-moving convention): a
@@ -47,14 +47,20 @@ namespace itk
  *    (TranslationOffsetFraction of r_s, off by default), each scored by the trimmed mean distance from
  * NumberOfScoreSamples target samples, mapped, to their nearest source sample (target -> source, because the target is
  * a part of the source; trimmed, because the target's deformation and its open boundary have no exact counterpart);
- * 3. the NumberOfCandidates best distinct starts are refined by trimmed ICP (closed-form Umeyama steps with
+ * 3. the StartRefinementFraction best starts are moved by NumberOfStartIterations rigid ICP steps at their own scale
+ *    (on the score samples) and scored again, the others dropped: a start a few degrees off a narrow basin (a
+ *    patch of holes among many alike, as in a block of cheese) scores badly where it is and well once it has slid in;
+ * 4. the NumberOfCandidates best distinct starts are refined by trimmed ICP (closed-form Umeyama steps with
  *    Eigen, on NumberOfCandidateSamples target samples, the TrimFraction closest pairs kept, the scale kept
  *    between 0.9 x the smallest and 1.15 x the largest scale of the ladder), and the refined start with the
  *    lowest score wins: the trimmed mean distance divided by the square root of the scale (the geometric mean of
  *    the two frames' units, so that neither shrinking nor growing the target gains by itself);
- * 4. the winner is polished by trimmed point-to-plane steps (linearized, least squares) on
- *    NumberOfRefinementSamples target samples against the source samples' triangle normals;
- * 5. for PoseType Affine, trimmed ICP with least-squares affine steps, then affine point-to-plane steps, go on
+ * 5. the winner is polished by point-to-plane steps (linearized, least squares) on NumberOfRefinementSamples
+ *    target samples against the exact closest points of the source's triangles, counting PolishTrimFraction of
+ *    them (all by default: the whole of a partial target lies on the source, though the source is not covered;
+ *    trimming lets the part slide or spread over a larger region), the scale fitted on distances in target units
+ *    (in source units a target shrinks its own deformation with it, which biases the scale down by a few %);
+ * 6. for PoseType Affine, trimmed ICP with least-squares affine steps, then affine point-to-plane steps, go on
  *    from the best similarity.
  *
  * Nearest neighbours come from nanoflann's k-d tree over the source samples. The starts and the refinements run on
@@ -120,7 +126,7 @@ public:
   itkSetEnumMacro(PoseType, PoseTypeEnum);
   itkGetEnumMacro(PoseType, PoseTypeEnum);
 
-  /** Rotations of the multi-start (a uniform covering of SO(3)). Default: 1024. */
+  /** Rotations of the multi-start (a uniform covering of SO(3)). Default: 2048. */
   itkSetClampMacro(NumberOfRotations, unsigned int, 1, 1000000);
   itkGetConstMacro(NumberOfRotations, unsigned int);
 
@@ -143,7 +149,7 @@ public:
   itkSetClampMacro(NumberOfSourceSamples, unsigned int, 16, 100000000);
   itkGetConstMacro(NumberOfSourceSamples, unsigned int);
 
-  /** Target samples that score each start. Default: 64. */
+  /** Target samples that score each start (and move it, see NumberOfStartIterations). Default: 128. */
   itkSetClampMacro(NumberOfScoreSamples, unsigned int, 8, 100000000);
   itkGetConstMacro(NumberOfScoreSamples, unsigned int);
 
@@ -159,10 +165,26 @@ public:
   itkSetClampMacro(NumberOfCandidates, unsigned int, 1, 100000);
   itkGetConstMacro(NumberOfCandidates, unsigned int);
 
+  /** ICP steps at the start's own scale (rigid steps, on the score samples) that move each of the best starts
+   * before they are ranked; 0 ranks the starts where they are. Default: 6. */
+  itkSetClampMacro(NumberOfStartIterations, unsigned int, 0, 1000);
+  itkGetConstMacro(NumberOfStartIterations, unsigned int);
+
+  /** Fraction of the starts, those of best score where they are, that NumberOfStartIterations move; the others
+   * are dropped. (0, 1]. Default: 0.25. */
+  itkSetClampMacro(StartRefinementFraction, double, 1e-6, 1.0);
+  itkGetConstMacro(StartRefinementFraction, double);
+
   /** Fraction of the target samples, the closest, that count in the score and in each ICP step, (0, 1].
    * Default: 0.85. */
   itkSetClampMacro(TrimFraction, double, 0.05, 1.0);
   itkGetConstMacro(TrimFraction, double);
+
+  /** Fraction of the target samples, the closest, that count in the final point-to-plane polish on exact
+   * distances, (0, 1]. Default: 1 (all: a partial target lies on the source at its pose, but the source need not
+   * be covered). */
+  itkSetClampMacro(PolishTrimFraction, double, 0.05, 1.0);
+  itkGetConstMacro(PolishTrimFraction, double);
 
   /** Maximum ICP iterations per refined start (and again for the polish and the affine stage). Default: 50. */
   itkSetClampMacro(NumberOfIterations, unsigned int, 1, 100000);
@@ -224,16 +246,19 @@ protected:
 
 private:
   PoseTypeEnum m_PoseType{ PoseTypeEnum::Similarity };
-  unsigned int m_NumberOfRotations{ 1024 };
+  unsigned int m_NumberOfRotations{ 2048 };
   unsigned int m_NumberOfScales{ 6 };
   double       m_ScaleStep{ 0.82 };
   double       m_TranslationOffsetFraction{ 0.0 };
   unsigned int m_NumberOfSourceSamples{ 20000 };
-  unsigned int m_NumberOfScoreSamples{ 64 };
+  unsigned int m_NumberOfScoreSamples{ 128 };
   unsigned int m_NumberOfCandidateSamples{ 800 };
   unsigned int m_NumberOfRefinementSamples{ 4000 };
   unsigned int m_NumberOfCandidates{ 24 };
+  unsigned int m_NumberOfStartIterations{ 6 };
+  double       m_StartRefinementFraction{ 0.25 };
   double       m_TrimFraction{ 0.85 };
+  double       m_PolishTrimFraction{ 1.0 };
   unsigned int m_NumberOfIterations{ 50 };
   int          m_RandomSeed{ 121212 };
 

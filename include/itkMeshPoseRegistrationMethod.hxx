@@ -25,6 +25,7 @@
 #include "itkMultiThreaderBase.h"
 #include "itkPointCloudKdTree.h"
 #include "itkSimilarity3DTransform.h"
+#include "itkTriangleBoundingVolumeHierarchy.h"
 #include "itkVersorRigid3DTransform.h"
 
 #include "itk_eigen.h"
@@ -84,14 +85,17 @@ MeshPoseRotationDistance(const Eigen::Matrix3d & a, const Eigen::Matrix3d & b)
 }
 
 /** Area-uniform random samples of a mesh's surface (its cells of three or more points, fanned into triangles), or
- * of its vertices when it has no cell of positive area. Throws on an empty mesh or a non-finite coordinate. */
+ * of its vertices when it has no cell of positive area, with their triangles' normals when \c normals is given and
+ * a hierarchy of its triangles (for exact distances) built in \c surface when given. Throws on an empty mesh or a
+ * non-finite coordinate. */
 template <typename TMesh>
 std::vector<Eigen::Vector3d>
-SampleMeshSurface(const TMesh *                  mesh,
-                  unsigned int                   count,
-                  std::mt19937 &                 random,
-                  const char *                   name,
-                  std::vector<Eigen::Vector3d> * normals = nullptr)
+SampleMeshSurface(const TMesh *                     mesh,
+                  unsigned int                      count,
+                  std::mt19937 &                    random,
+                  const char *                      name,
+                  std::vector<Eigen::Vector3d> *    normals = nullptr,
+                  TriangleBoundingVolumeHierarchy * surface = nullptr)
 {
   const auto numberOfPoints = mesh->GetNumberOfPoints();
   if (numberOfPoints == 0)
@@ -131,6 +135,17 @@ SampleMeshSurface(const TMesh *                  mesh,
       areas.push_back(area);
     }
   });
+  if (surface != nullptr)
+  {
+    std::vector<TriangleBoundingVolumeHierarchy::Triangle> soup;
+    soup.reserve(triangles.size());
+    for (const auto & t : triangles)
+    {
+      soup.push_back(
+        { { { t[0][0], t[0][1], t[0][2] } }, { { t[1][0], t[1][1], t[1][2] } }, { { t[2][0], t[2][1], t[2][2] } } });
+    }
+    surface->Build(std::move(soup));
+  }
   std::vector<Eigen::Vector3d> samples;
   samples.reserve(count);
   if (triangles.empty())
@@ -174,12 +189,14 @@ class MeshPoseMatcher
 public:
   using TreeType = PointCloudKdTree<Eigen::Vector3d>;
 
-  MeshPoseMatcher(const std::vector<Eigen::Vector3d> & source,
-                  const std::vector<Eigen::Vector3d> & normals,
-                  double                               minimumScale,
-                  double                               maximumScale)
+  MeshPoseMatcher(const std::vector<Eigen::Vector3d> &    source,
+                  const std::vector<Eigen::Vector3d> &    normals,
+                  double                                  minimumScale,
+                  double                                  maximumScale,
+                  const TriangleBoundingVolumeHierarchy * surface = nullptr)
     : m_Source(source)
     , m_Normals(normals)
+    , m_Surface(surface)
     , m_MinimumScale(minimumScale)
     , m_MaximumScale(maximumScale)
     , m_Cloud{ source }
@@ -257,6 +274,7 @@ public:
     std::vector<size_t> order(count);
     Eigen::Matrix3Xd    from(3, kept);
     Eigen::Matrix3Xd    to(3, kept);
+    const double        fixedScale = type == PoseEnum::Rigid ? MeshPoseScaleOf(pose.Linear) : 1.0;
     for (unsigned int iteration = 0; iteration < iterations; ++iteration)
     {
       for (size_t m = 0; m < count; ++m)
@@ -269,7 +287,7 @@ public:
       });
       for (size_t k = 0; k < kept; ++k)
       {
-        from.col(k) = target[order[k]];
+        from.col(k) = fixedScale * target[order[k]];
         to.col(k) = m_Source[nearest[order[k]]];
       }
       Eigen::Matrix3d linear;
@@ -293,7 +311,7 @@ public:
       else
       {
         const Eigen::Matrix4d step = Eigen::umeyama(from, to, type == PoseEnum::Similarity);
-        linear = step.topLeftCorner<3, 3>();
+        linear = fixedScale * step.topLeftCorner<3, 3>();
         translation = step.topRightCorner<3, 1>();
         if (type == PoseEnum::Similarity)
         {
@@ -330,6 +348,43 @@ public:
     return trimmedDistance / std::sqrt(MeshPoseScaleOf(linear));
   }
 
+  /** The squared distance from \c y to the source, its match there and the normal of the plane through it: the
+   * exact closest point of the source's triangles (\c exact) or the nearest source sample and its triangle's
+   * normal. */
+  double
+  Match(const Eigen::Vector3d & y, bool exact, Eigen::Vector3d & match, Eigen::Vector3d & normal) const
+  {
+    if (!exact)
+    {
+      size_t       nearest = 0;
+      const double squared = this->NearestSquare(y, &nearest);
+      match = m_Source[nearest];
+      normal = m_Normals[nearest];
+      return squared;
+    }
+    TriangleBoundingVolumeHierarchy::VectorType closest{ { y[0], y[1], y[2] } };
+    size_t                                      triangle = 0;
+    const double                                squared = m_Surface->SquaredDistance(
+      { { y[0], y[1], y[2] } }, std::numeric_limits<double>::infinity(), &closest, &triangle);
+    match = Eigen::Vector3d(closest[0], closest[1], closest[2]);
+    const auto &          t = m_Surface->GetTriangles()[triangle];
+    const Eigen::Vector3d a(t.a[0], t.a[1], t.a[2]);
+    const Eigen::Vector3d face =
+      (Eigen::Vector3d(t.b[0], t.b[1], t.b[2]) - a).cross(Eigen::Vector3d(t.c[0], t.c[1], t.c[2]) - a);
+    const Eigen::Vector3d away = y - match;
+    // Off the surface, the distance's gradient (exact at edges and corners too); on it, the face's normal.
+    const double faceNorm = face.norm();
+    if (away.squaredNorm() > 1e-12 * faceNorm || !(faceNorm > 0.0))
+    {
+      normal = away.normalized();
+    }
+    else
+    {
+      normal = face / faceNorm;
+    }
+    return squared;
+  }
+
   /** \c scale within the search's bounds. */
   double
   ClampScale(double scale) const
@@ -338,8 +393,13 @@ public:
   }
 
   /** Trimmed point-to-plane steps from \c pose (linearized: a small rotation, translation and, for similarity,
-   * scale, or a small affine update, solved by least squares), for a pose close to the truth already; needs the
-   * normals of the source samples (without them, \c pose is only scored). */
+   * scale, or a small affine update, solved by least squares), for a pose close to the truth already. Rigid and
+   * similarity steps match each mapped target sample to the exact closest point of the source's triangles when the
+   * matcher has them (the plane: the direction to that point, the triangle's normal on the surface), to the nearest
+   * source sample and its triangle's normal otherwise (needed then; without them, \c pose is only scored). The
+   * similarity's scale is fitted on residuals in target units (the distance over the scale), which do not gain by
+   * shrinking the target: in source units the target's own deviation from the source (its deformation) shrinks
+   * with it. */
   void
   Polish(MeshPoseCandidate &                     pose,
          const std::vector<Eigen::Vector3d> &    target,
@@ -349,17 +409,20 @@ public:
          double                                  tolerance) const
   {
     using PoseEnum = FFDShapeMatchingEnums::InitialTransform;
-    const size_t        count = target.size();
-    const size_t        kept = KeptCount(count, trim);
-    const int           unknowns = type == PoseEnum::Affine ? 12 : (type == PoseEnum::Similarity ? 7 : 6);
-    std::vector<double> squares(count);
-    std::vector<size_t> nearest(count);
-    std::vector<size_t> order(count);
-    for (unsigned int iteration = 0; m_Normals.size() == m_Source.size() && iteration < iterations; ++iteration)
+    const size_t count = target.size();
+    const size_t kept = KeptCount(count, trim);
+    const int    unknowns = type == PoseEnum::Affine ? 12 : (type == PoseEnum::Similarity ? 7 : 6);
+    const bool   exact = m_Surface != nullptr && m_Surface->GetNumberOfTriangles() > 0 && type != PoseEnum::Affine;
+    std::vector<double>          squares(count);
+    std::vector<Eigen::Vector3d> matched(count);
+    std::vector<Eigen::Vector3d> planeNormals(count);
+    std::vector<size_t>          order(count);
+    for (unsigned int iteration = 0; (exact || m_Normals.size() == m_Source.size()) && iteration < iterations;
+         ++iteration)
     {
       for (size_t m = 0; m < count; ++m)
       {
-        squares[m] = this->NearestSquare(pose.Linear * target[m] + pose.Translation, &nearest[m]);
+        squares[m] = this->Match(pose.Linear * target[m] + pose.Translation, exact, matched[m], planeNormals[m]);
       }
       std::iota(order.begin(), order.end(), size_t{ 0 });
       std::nth_element(order.begin(), order.begin() + (kept - 1), order.end(), [&squares](size_t a, size_t b) {
@@ -372,8 +435,8 @@ public:
       for (size_t k = 0; k < kept; ++k)
       {
         const Eigen::Vector3d   y = pose.Linear * target[order[k]] + pose.Translation;
-        const Eigen::Vector3d & n = m_Normals[nearest[order[k]]];
-        const double            residual = n.dot(y - m_Source[nearest[order[k]]]);
+        const Eigen::Vector3d & n = planeNormals[order[k]];
+        const double            residual = n.dot(y - matched[order[k]]);
         sizeSquares += y.squaredNorm();
         if (type == PoseEnum::Affine)
         {
@@ -389,12 +452,13 @@ public:
         }
         else
         {
-          // y' = (1 + sigma) (y + omega x y) + tau: n . (omega x y) = omega . (y x n).
+          // y' = (1 + sigma) (y + omega x y) + tau: n . (omega x y) = omega . (y x n). In target units, the
+          // residual over (1 + sigma) s: to first order, sigma's coefficient is n . (y - residual n) = n . matched.
           row.head<3>() = y.cross(n);
           row.segment<3>(3) = n;
           if (type == PoseEnum::Similarity)
           {
-            row[6] = n.dot(y);
+            row[6] = n.dot(matched[order[k]]);
           }
         }
         normal += row * row.transpose();
@@ -451,12 +515,13 @@ public:
   }
 
 private:
-  const std::vector<Eigen::Vector3d> & m_Source;
-  const std::vector<Eigen::Vector3d> & m_Normals;
-  double                               m_MinimumScale;
-  double                               m_MaximumScale;
-  PointCloudAdaptor<Eigen::Vector3d>   m_Cloud;
-  TreeType                             m_Tree;
+  const std::vector<Eigen::Vector3d> &    m_Source;
+  const std::vector<Eigen::Vector3d> &    m_Normals;
+  const TriangleBoundingVolumeHierarchy * m_Surface;
+  double                                  m_MinimumScale;
+  double                                  m_MaximumScale;
+  PointCloudAdaptor<Eigen::Vector3d>      m_Cloud;
+  TreeType                                m_Tree;
 };
 
 /** The rotations of a super-Fibonacci spiral of \c count unit quaternions: a low-discrepancy covering of SO(3). */
@@ -537,9 +602,10 @@ MeshPoseRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateData()
   std::mt19937                       random(static_cast<std::mt19937::result_type>(m_RandomSeed));
   const std::vector<Eigen::Vector3d> target = detail::SampleMeshSurface(
     this->GetFixedMesh(), std::max(m_NumberOfRefinementSamples, m_NumberOfScoreSamples), random, "fixed (target)");
-  std::vector<Eigen::Vector3d>       normals;
-  const std::vector<Eigen::Vector3d> source =
-    detail::SampleMeshSurface(this->GetMovingMesh(), m_NumberOfSourceSamples, random, "moving (source)", &normals);
+  std::vector<Eigen::Vector3d>            normals;
+  detail::TriangleBoundingVolumeHierarchy surface;
+  const std::vector<Eigen::Vector3d>      source = detail::SampleMeshSurface(
+    this->GetMovingMesh(), m_NumberOfSourceSamples, random, "moving (source)", &normals, &surface);
   const auto centroidAndRadius = [](const std::vector<Eigen::Vector3d> & points) {
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
     for (const auto & p : points)
@@ -589,7 +655,7 @@ MeshPoseRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateData()
   }
   const double minimumScale = m_PoseType == PoseTypeEnum::Rigid ? 1.0 : scales.back() * std::min(m_ScaleStep, 0.9);
   const double maximumScale = m_PoseType == PoseTypeEnum::Rigid ? 1.0 : 1.15 * scales.front();
-  const detail::MeshPoseMatcher  matcher(source, normals, minimumScale, maximumScale);
+  const detail::MeshPoseMatcher  matcher(source, normals, minimumScale, maximumScale, &surface);
   const size_t                   scoreCount = std::min<size_t>(m_NumberOfScoreSamples, target.size());
   const size_t                   perRotation = scales.size() * offsets.size();
   std::vector<MeshPoseCandidate> starts(rotations.size() * perRotation);
@@ -616,13 +682,33 @@ MeshPoseRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateData()
       }
     },
     nullptr);
+  // The best StartRefinementFraction of the starts move by a few ICP steps at their own scale (rigid steps on the
+  // score samples) before they are ranked: a start a few degrees or millimetres off a narrow basin (a patch of holes
+  // among many alike) scores badly where it is, and well once it has slid in. The others are dropped.
+  std::vector<size_t> order(starts.size());
+  std::iota(order.begin(), order.end(), size_t{ 0 });
+  const auto byScore = [&starts](size_t a, size_t b) { return starts[a].Score < starts[b].Score; };
+  if (m_NumberOfStartIterations > 0)
+  {
+    std::sort(order.begin(), order.end(), byScore);
+    const size_t moved = std::max<size_t>(
+      1, static_cast<size_t>(std::lround(m_StartRefinementFraction * static_cast<double>(starts.size()))));
+    const std::vector<Eigen::Vector3d> scoreTarget(target.begin(), target.begin() + scoreCount);
+    threader->ParallelizeArray(
+      0,
+      moved,
+      [&](SizeValueType i) {
+        matcher.Refine(
+          starts[order[i]], scoreTarget, PoseTypeEnum::Rigid, m_TrimFraction, m_NumberOfStartIterations, 1e-7 * extent);
+      },
+      nullptr);
+    order.resize(moved);
+  }
   m_NumberOfStarts = starts.size();
 
   // The best distinct starts: a start close in rotation (15 degrees), with the same scale and offset, to one kept
   // already is the same basin.
-  std::vector<size_t> order(starts.size());
-  std::iota(order.begin(), order.end(), size_t{ 0 });
-  std::sort(order.begin(), order.end(), [&starts](size_t a, size_t b) { return starts[a].Score < starts[b].Score; });
+  std::sort(order.begin(), order.end(), byScore);
   std::vector<MeshPoseCandidate> candidates;
   for (const size_t index : order)
   {
@@ -674,7 +760,11 @@ MeshPoseRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateData()
   m_RunnerUpRotationDistance =
     runnerUp != nullptr ? detail::MeshPoseRotationDistance(winnerRotation, detail::MeshPoseRotationOf(runnerUp->Linear))
                         : 0.0;
-  matcher.Polish(winner, target, firstType, m_TrimFraction, m_NumberOfIterations, tolerance);
+  // The polish counts PolishTrimFraction of the samples (all by default: the whole target lies on the source at its
+  // pose; trimming lets it slide or grow over a region larger than its own), on exact distances to the source.
+  matcher.Polish(winner, target, firstType, m_PolishTrimFraction, m_NumberOfIterations, tolerance);
+  winner.Score = detail::MeshPoseMatcher::ScoreOf(
+    matcher.TrimmedDistance(winner.Linear, winner.Translation, target, target.size(), m_TrimFraction), winner.Linear);
   if (m_PoseType == PoseTypeEnum::Affine)
   {
     matcher.Refine(winner, target, PoseTypeEnum::Affine, m_TrimFraction, m_NumberOfIterations, tolerance);
@@ -762,7 +852,10 @@ MeshPoseRegistrationMethod<TFixedMesh, TMovingMesh>::PrintSelf(std::ostream & os
   os << indent << "NumberOfCandidateSamples: " << m_NumberOfCandidateSamples << std::endl;
   os << indent << "NumberOfRefinementSamples: " << m_NumberOfRefinementSamples << std::endl;
   os << indent << "NumberOfCandidates: " << m_NumberOfCandidates << std::endl;
+  os << indent << "NumberOfStartIterations: " << m_NumberOfStartIterations << std::endl;
+  os << indent << "StartRefinementFraction: " << m_StartRefinementFraction << std::endl;
   os << indent << "TrimFraction: " << m_TrimFraction << std::endl;
+  os << indent << "PolishTrimFraction: " << m_PolishTrimFraction << std::endl;
   os << indent << "NumberOfIterations: " << m_NumberOfIterations << std::endl;
   os << indent << "RandomSeed: " << m_RandomSeed << std::endl;
   os << indent << "RotationAngle: " << m_RotationAngle << std::endl;

@@ -137,9 +137,14 @@ public:
   }
 
   /** Exact squared distance from q to the closest triangle when it is smaller than
-   * \c maxSquaredDistance, otherwise \c maxSquaredDistance. */
+   * \c maxSquaredDistance, otherwise \c maxSquaredDistance. When \c closestPoint is given, the closest point of that
+   * triangle goes there and the triangle's index (in GetTriangles()) to \c closestTriangle (when given); both are
+   * left unchanged when no triangle is closer than \c maxSquaredDistance. */
   double
-  SquaredDistance(const VectorType & q, double maxSquaredDistance = std::numeric_limits<double>::infinity()) const
+  SquaredDistance(const VectorType & q,
+                  double             maxSquaredDistance = std::numeric_limits<double>::infinity(),
+                  VectorType *       closestPoint = nullptr,
+                  std::size_t *      closestTriangle = nullptr) const
   {
     double best = maxSquaredDistance;
     if (m_Nodes.empty() || BoxSquaredDistance(m_Nodes[0], q) >= best)
@@ -162,7 +167,19 @@ public:
         for (std::uint32_t i = node.first; i < node.first + node.count; ++i)
         {
           const Triangle & t = m_Triangles[i];
-          best = std::min(best, ClosestPointOnTriangle(q, t.a, t.b, t.c, closest));
+          const double     squared = ClosestPointOnTriangle(q, t.a, t.b, t.c, closest);
+          if (squared < best)
+          {
+            best = squared;
+            if (closestPoint != nullptr)
+            {
+              *closestPoint = closest;
+            }
+            if (closestTriangle != nullptr)
+            {
+              *closestTriangle = i;
+            }
+          }
         }
         continue;
       }

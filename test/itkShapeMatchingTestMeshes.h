@@ -88,12 +88,14 @@ MakeSphere(double r, double cx, double cy, double cz)
   return mesh;
 }
 
-// The triangles of \c source above z = zCut, their vertices moved by a smooth deformation; the ids of the same
-// material point in source and target are kept in \c truth.
+// The triangles of \c source above z = zCut, their vertices moved by a smooth deformation (of up to 1.5 units,
+// times \c amplitude: 0 cuts the patch out as it is); the ids of the same material point in source and target are
+// kept in \c truth.
 inline MeshType::Pointer
 MakeDeformedPatch(const MeshType *                                                                 source,
                   double                                                                           zCut,
-                  itk::PointCorrespondenceErrorCalculator<MeshType>::CorrespondenceContainerType & truth)
+                  itk::PointCorrespondenceErrorCalculator<MeshType>::CorrespondenceContainerType & truth,
+                  double                                                                           amplitude = 1.0)
 {
   auto                                               target = MeshType::New();
   std::map<itk::IdentifierType, itk::IdentifierType> newId;
@@ -118,9 +120,9 @@ MakeDeformedPatch(const MeshType *                                              
         MeshType::PointType p = source->GetPoint(ids[k]);
         const double        x = p[0];
         const double        y = p[1];
-        p[0] += 1.5 * std::sin(y / 8.0);
-        p[1] += 1.0 * std::cos(x / 9.0);
-        p[2] += 0.8 * std::sin((x + y) / 10.0);
+        p[0] += amplitude * 1.5 * std::sin(y / 8.0);
+        p[1] += amplitude * 1.0 * std::cos(x / 9.0);
+        p[2] += amplitude * 0.8 * std::sin((x + y) / 10.0);
         found = newId.emplace(ids[k], newId.size()).first;
         target->SetPoint(found->second, p);
         truth.emplace_back(ids[k], found->second);
