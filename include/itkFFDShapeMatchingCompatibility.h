@@ -31,7 +31,10 @@
 /** itkOverrideGetNameOfClassMacro (ITK 5.4; itkTypeMacro is deprecated there and removed under
  * ITK_FUTURE_LEGACY_REMOVE), supplied for older releases. */
 #  define itkOverrideGetNameOfClassMacro(thisClass)                                                                    \
-    const char * GetNameOfClass() const override { return #thisClass; }                                                \
+    const char * GetNameOfClass() const override                                                                       \
+    {                                                                                                                  \
+      return #thisClass;                                                                                               \
+    }                                                                                                                  \
     ITK_MACROEND_NOOP_STATEMENT
 #endif
 
