@@ -63,9 +63,14 @@ cleanup() {
   done
 }
 trap cleanup EXIT
-bind() { # bind SOURCE TARGET [ro]
+bind() { # bind SOURCE TARGET [ro|rec]
   mkdir -p "$2"
-  mount --bind "$1" "$2"
+  if [ "${3:-}" = rec ]; then
+    mount --rbind "$1" "$2"
+    mount --make-rslave "$2"
+  else
+    mount --bind "$1" "$2"
+  fi
   mounts+=("$2")
   if [ "${3:-}" = ro ]; then
     mount -o remount,bind,ro "$2"
@@ -75,7 +80,8 @@ bind() { # bind SOURCE TARGET [ro]
 # inside the chroot (unshare -m, as the full-file-system output-safety test does) can change its propagation.
 bind "$root" "$root"
 bind /proc "$root/proc"
-bind /sys "$root/sys"
+# /sys with what is mounted below it: Slurm 24's slurmd (the workflow's Slurm test) needs /sys/fs/cgroup.
+bind /sys "$root/sys" rec
 bind /dev "$root/dev"
 bind /dev/pts "$root/dev/pts"
 mkdir -p "$root/dev/shm"
