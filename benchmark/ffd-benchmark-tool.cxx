@@ -429,7 +429,7 @@ RunCase(const ArgumentMap & options)
       usedSeed = seed + 7919u * attempts;
     }
   }
-  GeneratorType::TransformType::Pointer trueTransform = generator->GetTransform();
+  GeneratorType::TransformType::Pointer trueTransform = generator->GetModifiableTransform();
 
   // Target vertices: T_true^-1 of the region's source vertices, so that T_true maps them back exactly.
   std::vector<PointType> regionPoints;
