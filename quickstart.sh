@@ -29,5 +29,7 @@ if [ "$action" = demo ]; then
     "$build_dir/apps/ffd-match" --demo --output-dir demo-output
   fi
 else
-  (cd "$build_dir" && ctest -j"$jobs" --output-on-failure)
+  # FFD_CTEST_ARGS: extra ctest arguments (the Debian 13 configuration uses it; empty by default).
+  # shellcheck disable=SC2086
+  (cd "$build_dir" && ctest -j"$jobs" --output-on-failure ${FFD_CTEST_ARGS:-})
 fi
