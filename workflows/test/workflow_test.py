@@ -8,7 +8,8 @@ cores. The table must hold 5 rows: 3 matched (distance reduced, no folding), the
 ffd-match's one-line errors. A second run does nothing; after both inputs are repaired a third run matches exactly
 those two pairs (the others' status files untouched) and the table then holds 5 matched rows.
 slurm: the same through a single-node Slurm on localhost (workflows/test/local_slurm.sh, stopped at the end) with the
-profile workflows/slurm, on 2 pairs and the damaged one.
+profile workflows/slurm, on 2 pairs and the damaged one; every match job must have run through sbatch, and the
+profile's status command must answer success, failed and a usage error for a finished, an unknown and a bad job id.
 template: one template and a folder of 3 targets (--config template=... targets=...), with templates=2: the learned
 templates (ffd-templates) are read by ffd-match --method par.
 retry: a pair killed on its first attempt is retried and matched, one killed on every attempt is a row with the
@@ -245,6 +246,17 @@ def main():
     else:
         run_failures_and_repair(["--profile", os.path.join(WORKFLOWS, "slurm"), "--jobs", "2"],
                                 ["pair-000", "pair-001"], "slurm")
+        # Every match job ran through sbatch: 4 in the first run (2 pairs, the damaged and the missing one), none
+        # in the second, 2 after the repair; each wrote its Slurm log.
+        logs = sorted(os.listdir(os.path.join(WORKDIR, "slurm-logs")))
+        check(len(logs) == 6 and all(name.startswith("match-") for name in logs), f"Slurm job logs: {logs}")
+        # The profile's status command on a finished job, on a job Slurm does not know and on a malformed id.
+        status = os.path.join(WORKFLOWS, "slurm", "slurm-status.py")
+        finished = re.fullmatch(r"match-\d+-(\d+)\.log", logs[0]).group(1)
+        for job, expected, code in ((f"{finished};ffdtest", "success", 0), ("999999", "failed", 0), ("x1", "", 2)):
+            answer = subprocess.run([status, job], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+            check(answer.returncode == code and answer.stdout.strip() == expected,
+                  f"slurm-status.py {job}: exit {answer.returncode}, '{answer.stdout.strip()}' ({answer.stderr.strip()})")
         return
     print(f"PASS: {mode}")
 
