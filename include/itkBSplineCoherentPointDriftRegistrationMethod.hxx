@@ -20,6 +20,8 @@
 
 #include "itkBSplineCoherentPointDriftRegistrationMethod.h"
 #include "itkBSplineLatticeRegularization.h"
+#include "itkBSplineNormalMatrixAssembler.h"
+#include "itkSparseMultipleRightHandConjugateGradient.h"
 #include "itkContinuousIndex.h"
 #include "itkCubicBSplineKernel.h"
 #include "itkMultiThreaderBase.h"
@@ -29,7 +31,6 @@
 #include "itkVectorContainer.h"
 
 #include "itk_eigen.h"
-#include ITK_EIGEN(IterativeLinearSolvers)
 #include ITK_EIGEN(Sparse)
 
 #include <algorithm>
@@ -209,6 +210,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
 {
   using ClockType = std::chrono::steady_clock;
   using SparseMatrix = Eigen::SparseMatrix<double>;
+  using RowMajorCoefficients = Eigen::Matrix<double, Eigen::Dynamic, Dimension, Eigen::RowMajor>;
   using Triplet = Eigen::Triplet<double>;
   const auto start = ClockType::now();
   m_TimeLimitReached = false;
@@ -366,11 +368,16 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     }
     basis.setFromTriplets(entries.begin(), entries.end());
   }
-  const SparseMatrix basisTransposed = basis.transpose();
-  const SparseMatrix bending = detail::BSplineLatticeBendingMatrix({ gridSize[0], gridSize[1], gridSize[2] });
-  SparseMatrix       identity(static_cast<Eigen::Index>(numberOfCoefficients),
+  // B^T diag(P1) B and the prior R + 1e-3 I share one sparsity pattern: each M-step only adds value arrays.
+  const detail::BSplineNormalMatrixAssembler normalMatrix({ gridSize[0], gridSize[1], gridSize[2] }, indices, weights);
+  SparseMatrix                               identity(static_cast<Eigen::Index>(numberOfCoefficients),
                         static_cast<Eigen::Index>(numberOfCoefficients));
   identity.setIdentity();
+  const Eigen::VectorXd prior =
+    normalMatrix.Align(detail::BSplineLatticeBendingMatrix({ gridSize[0], gridSize[1], gridSize[2] })) +
+    1e-3 * normalMatrix.Align(identity);
+  SparseMatrix    system = normalMatrix.GetPattern();
+  Eigen::VectorXd dataValues;
 
   // The coefficients c (one column per dimension) and the mapped samples Y + B c.
   Eigen::MatrixXd coefficient(numberOfCoefficients, Dimension);
@@ -465,6 +472,14 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   std::ostringstream stop;
   unsigned int       iteration = 0;
 
+  // The E-step's sums and the reverse direction's shares, allocated once for every iteration.
+  std::vector<double>                       mass(numberOfFixed);
+  std::vector<std::array<double, 3>>        pulled(numberOfFixed);
+  std::vector<double>                       squares(numberOfFixed);
+  std::vector<std::array<unsigned int, 64>> shareIds;
+  std::vector<std::array<double, 64>>       shares;
+  std::vector<unsigned int>                 shareCounts;
+
   for (; iteration < m_NumberOfIterations; ++iteration)
   {
     if (m_MaximumRunTime > 0.0 && std::chrono::duration<double>(ClockType::now() - start).count() > m_MaximumRunTime)
@@ -477,10 +492,10 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     const double          radius2 = 9.0 * sigma2;
 
     // E-step. Per target sample m: the matched mass P1_m, sum_n P_mn x_n and sum_n P_mn |x_n|^2.
-    std::vector<double>                mass(numberOfFixed, 0.0);
-    std::vector<std::array<double, 3>> pulled(numberOfFixed, { 0.0, 0.0, 0.0 });
-    std::vector<double>                squares(numberOfFixed, 0.0);
-    const double                       forward = m_ForwardWeight;
+    std::fill(mass.begin(), mass.end(), 0.0);
+    std::fill(pulled.begin(), pulled.end(), std::array<double, 3>{ 0.0, 0.0, 0.0 });
+    std::fill(squares.begin(), squares.end(), 0.0);
+    const double forward = m_ForwardWeight;
     threader->ParallelizeArray(
       0,
       numberOfFixed,
@@ -533,10 +548,13 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
       detail::PointCloudKdTree<PointType>        mappedTree(
         Dimension, mappedCloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
       mappedTree.buildIndex();
-      const double                              outlier = w / (1.0 - w) * 2.0 * Math::pi * sigma2 * density;
-      std::vector<std::array<unsigned int, 64>> shareIds(numberOfMoving);
-      std::vector<std::array<double, 64>>       shares(numberOfMoving);
-      std::vector<unsigned int>                 shareCounts(numberOfMoving, 0);
+      const double outlier = w / (1.0 - w) * 2.0 * Math::pi * sigma2 * density;
+      if (shareIds.size() != numberOfMoving)
+      {
+        shareIds.resize(numberOfMoving);
+        shares.resize(numberOfMoving);
+      }
+      shareCounts.assign(numberOfMoving, 0);
       threader->ParallelizeArray(
         0,
         numberOfMoving,
@@ -621,12 +639,11 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
         right(m, d) = pulled[m][d] - mass[m] * target(m, d);
       }
     }
-    const SparseMatrix    weighted = massVector.asDiagonal() * basis;
-    const SparseMatrix    data = basisTransposed * weighted;
-    const Eigen::MatrixXd rhs = basis.transpose() * right;
-    const double          scale = sigma2 / (spacing * spacing) * totalMass / 1000.0;
-    Eigen::MatrixXd       solved = coefficient;
-    const auto            minimumDeterminantOf = [&](const Eigen::MatrixXd & values) {
+    normalMatrix.Assemble(massVector, dataValues);
+    const RowMajorCoefficients rhs = basis.transpose() * right;
+    const double               scale = sigma2 / (spacing * spacing) * totalMass / 1000.0;
+    Eigen::MatrixXd            solved = coefficient;
+    const auto                 minimumDeterminantOf = [&](const Eigen::MatrixXd & values) {
       setCoefficients(values);
       detail::SpatialJacobianEvaluator<double, Dimension> jacobian;
       jacobian.Initialize(transform);
@@ -641,15 +658,11 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     };
     for (unsigned int attempt = 0;; ++attempt)
     {
-      const SparseMatrix system = data + (lambda * scale) * (bending + 1e-3 * identity);
-      Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper> solver;
-      solver.setMaxIterations(static_cast<Eigen::Index>(m_NumberOfSolverIterations));
-      solver.setTolerance(1e-8);
-      solver.compute(system);
-      for (unsigned int d = 0; d < Dimension; ++d)
-      {
-        solved.col(d) = solver.solveWithGuess(rhs.col(d), coefficient.col(d));
-      }
+      normalMatrix.Fill(dataValues + (lambda * scale) * prior, system);
+      // The Dimension right-hand sides side by side: one pass over the matrix per iteration serves all of them.
+      RowMajorCoefficients columns = coefficient;
+      detail::SolveSparseConjugateGradient<Dimension>(system, rhs, columns, m_NumberOfSolverIterations, 1e-8);
+      solved = columns;
       // Fold check at the target samples.
       if (minimumDeterminantOf(solved) >= m_MinimumJacobianDeterminant || attempt >= 6)
       {

@@ -1,0 +1,146 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkSparseMultipleRightHandConjugateGradient_h
+#define itkSparseMultipleRightHandConjugateGradient_h
+
+#include "itkMacro.h"
+
+#include "itk_eigen.h"
+#include ITK_EIGEN(Dense)
+#include ITK_EIGEN(Sparse)
+
+#include <algorithm>
+#include <limits>
+
+namespace itk
+{
+namespace detail
+{
+/** \file itkSparseMultipleRightHandConjugateGradient.h
+ * \brief Jacobi-preconditioned conjugate gradients for A X = B with a symmetric positive definite sparse A and a few
+ * right-hand sides (columns of B), run side by side.
+ *
+ * Each column follows its own conjugate-gradient recurrence (the iterates equal those of
+ * Eigen::ConjugateGradient with its diagonal preconditioner, column by column, up to rounding), but every iteration
+ * reads the matrix once for all columns: the product A P is taken as the row-major transpose of the column-major A
+ * (equal, A being symmetric) times a row-major block, so one pass over A's entries serves every column. Where the
+ * matrix is larger than the cache, the pass is what costs: three columns cost about one column's time.
+ *
+ * A column stops when its residual norm is below \c tolerance times its right-hand side's norm, or after
+ * \c maximumIterations. \c solution holds the starting guess on entry. Returns the largest number of iterations any
+ * column took. Throws itk::ExceptionObject when the sizes do not agree or the diagonal is not positive.
+ * \ingroup FFDShapeMatching
+ */
+template <int TColumns>
+unsigned int
+SolveSparseConjugateGradient(const Eigen::SparseMatrix<double> &                                      matrix,
+                             const Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor> & rightHandSide,
+                             Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor> &       solution,
+                             unsigned int                                                             maximumIterations,
+                             double                                                                   tolerance)
+{
+  using BlockType = Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor>;
+  using RowType = Eigen::Matrix<double, 1, TColumns>;
+  const Eigen::Index size = matrix.rows();
+  if (matrix.cols() != size || rightHandSide.rows() != size || solution.rows() != size)
+  {
+    itkGenericExceptionMacro(<< "SolveSparseConjugateGradient: a " << matrix.rows() << " x " << matrix.cols()
+                             << " matrix, " << rightHandSide.rows() << " right-hand rows and " << solution.rows()
+                             << " solution rows do not agree");
+  }
+  Eigen::VectorXd inverseDiagonal(size);
+  for (Eigen::Index n = 0; n < size; ++n)
+  {
+    const double diagonal = matrix.coeff(n, n);
+    if (!(diagonal > 0.0))
+    {
+      itkGenericExceptionMacro(<< "SolveSparseConjugateGradient: diagonal entry " << n << " is " << diagonal
+                               << ", not positive");
+    }
+    inverseDiagonal[n] = 1.0 / diagonal;
+  }
+  const auto transposed = matrix.transpose(); // row-major view; equal to matrix, which is symmetric
+
+  BlockType residual = rightHandSide;
+  residual.noalias() -= transposed * solution;
+  const RowType rightNorm2 = rightHandSide.colwise().squaredNorm();
+  RowType       threshold;
+  for (int c = 0; c < TColumns; ++c)
+  {
+    threshold[c] = std::max(tolerance * tolerance * rightNorm2[c], std::numeric_limits<double>::min());
+    if (rightNorm2[c] == 0.0)
+    {
+      solution.col(c).setZero();
+      residual.col(c).setZero();
+    }
+  }
+  RowType residualNorm2 = residual.colwise().squaredNorm();
+  auto    active = [&](int c) { return rightNorm2[c] != 0.0 && residualNorm2[c] >= threshold[c]; };
+
+  BlockType    direction = inverseDiagonal.asDiagonal() * residual;
+  RowType      rho = (residual.cwiseProduct(direction)).colwise().sum();
+  BlockType    product(size, TColumns);
+  BlockType    preconditioned(size, TColumns);
+  unsigned int iterations = 0;
+  for (; iterations < maximumIterations; ++iterations)
+  {
+    bool any = false;
+    for (int c = 0; c < TColumns; ++c)
+    {
+      any = any || active(c);
+    }
+    if (!any)
+    {
+      break;
+    }
+    product.noalias() = transposed * direction;
+    const RowType curvature = (direction.cwiseProduct(product)).colwise().sum();
+    RowType       alpha = RowType::Zero();
+    for (int c = 0; c < TColumns; ++c)
+    {
+      if (active(c) && curvature[c] > 0.0)
+      {
+        alpha[c] = rho[c] / curvature[c];
+      }
+    }
+    solution.noalias() += direction * alpha.asDiagonal();
+    residual.noalias() -= product * alpha.asDiagonal();
+    residualNorm2 = residual.colwise().squaredNorm();
+    preconditioned.noalias() = inverseDiagonal.asDiagonal() * residual;
+    const RowType rhoNew = (residual.cwiseProduct(preconditioned)).colwise().sum();
+    RowType       beta = RowType::Zero();
+    for (int c = 0; c < TColumns; ++c)
+    {
+      if (alpha[c] != 0.0 && rho[c] != 0.0)
+      {
+        beta[c] = rhoNew[c] / rho[c];
+      }
+      else
+      {
+        residualNorm2[c] = 0.0; // a column that made no step has converged or broken down: freeze it
+      }
+    }
+    direction = preconditioned + direction * beta.asDiagonal();
+    rho = rhoNew;
+  }
+  return iterations;
+}
+} // namespace detail
+} // namespace itk
+
+#endif // itkSparseMultipleRightHandConjugateGradient_h
