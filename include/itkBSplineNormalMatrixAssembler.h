@@ -206,9 +206,9 @@ public:
         const long                a = row[0] - at[0];
         const long                b = row[1] - at[1];
         const long                c = row[2] - at[2];
-        const int position = std::max({ std::abs(a), std::abs(b), std::abs(c) }) > 3
-                               ? -1
-                               : m_Positions[static_cast<size_t>(column) * Offsets + OffsetIndex(a, b, c)];
+        const int                 position = std::max({ std::abs(a), std::abs(b), std::abs(c) }) > 3
+                                               ? -1
+                                               : m_Positions[static_cast<size_t>(column) * Offsets + OffsetIndex(a, b, c)];
         if (position < 0)
         {
           itkGenericExceptionMacro(<< "BSplineNormalMatrixAssembler: entry (" << entry.row() << ", " << column
