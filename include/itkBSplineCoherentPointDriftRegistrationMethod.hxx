@@ -369,15 +369,16 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     basis.setFromTriplets(entries.begin(), entries.end());
   }
   // B^T diag(P1) B and the prior R + 1e-3 I share one sparsity pattern: each M-step only adds value arrays.
-  const detail::BSplineNormalMatrixAssembler normalMatrix({ gridSize[0], gridSize[1], gridSize[2] }, indices, weights);
-  SparseMatrix                               identity(static_cast<Eigen::Index>(numberOfCoefficients),
+  SparseMatrix identity(static_cast<Eigen::Index>(numberOfCoefficients),
                         static_cast<Eigen::Index>(numberOfCoefficients));
   identity.setIdentity();
-  const Eigen::VectorXd prior =
-    normalMatrix.Align(detail::BSplineLatticeBendingMatrix({ gridSize[0], gridSize[1], gridSize[2] })) +
-    1e-3 * normalMatrix.Align(identity);
-  SparseMatrix    system = normalMatrix.GetPattern();
-  Eigen::VectorXd dataValues;
+  const SparseMatrix regularizer =
+    detail::BSplineLatticeBendingMatrix({ gridSize[0], gridSize[1], gridSize[2] }) + 1e-3 * identity;
+  const detail::BSplineNormalMatrixAssembler normalMatrix(
+    { gridSize[0], gridSize[1], gridSize[2] }, indices, weights, regularizer);
+  const Eigen::VectorXd prior = normalMatrix.Align(regularizer);
+  SparseMatrix          system = normalMatrix.GetPattern();
+  Eigen::VectorXd       dataValues;
 
   // The coefficients c (one column per dimension) and the mapped samples Y + B c.
   Eigen::MatrixXd coefficient(numberOfCoefficients, Dimension);

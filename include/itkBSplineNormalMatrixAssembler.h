@@ -39,12 +39,11 @@ namespace detail
  *
  * B holds, per sample, the 64 weights of its cubic B-spline support (a 4 x 4 x 4 block of the lattice, indices
  * i + n0 (j + n1 k) as in a BSplineTransform's parameters per dimension). The pattern holds every pair of
- * coefficients that share a sample's support block (the support of B^T B) and every pair at most 2 lattice steps
- * apart along each axis (the support of a lattice bending matrix of second differences), nothing else: coefficients
- * far from the samples keep only the bending matrix's entries, so a solver's products cost no more than with
- * Eigen's own sum. Sums of such matrices (the M-step of a coherent point drift on the coefficients:
- * B^T diag(P1) B + s (R + e I)) are then sums of value arrays, without a sparse product or a new structure per
- * iteration.
+ * coefficients that share a sample's support block (the support of B^T B) and every entry of a given regularizer
+ * (e.g. a lattice bending matrix), nothing else: coefficients far from the samples keep only the regularizer's
+ * entries, so a solver's products cost what they cost on Eigen's own sum of the two. Sums of such matrices (the M-step
+ * of a coherent point drift on the coefficients: B^T diag(P1) B + s (R + e I)) are then sums of value arrays, without a
+ * sparse product or a new structure per iteration.
  *
  * Samples with the same support block are grouped; per block the 64 x 64 product W^T diag(m) W is one dense
  * product, scattered into the pattern through a table of positions. The result equals Eigen's
@@ -58,14 +57,21 @@ public:
   using WeightsType = std::array<double, 64>;
   using IndicesType = std::array<unsigned int, 64>;
 
-  /** The pattern for a lattice of \c size coefficients and the samples' supports (\c indices[m] in the order of
-   * detail::BSplineSupportWeights: the first axis fastest). */
+  /** The pattern for a lattice of \c size coefficients, the samples' supports (\c indices[m] in the order of
+   * detail::BSplineSupportWeights: the first axis fastest) and a \c regularizer whose entries the pattern also holds
+   * (its entries at most 3 lattice steps apart along each axis). */
   BSplineNormalMatrixAssembler(const std::array<size_t, 3> &    size,
                                const std::vector<IndicesType> & indices,
-                               const std::vector<WeightsType> & weights)
+                               const std::vector<WeightsType> & weights,
+                               const SparseMatrix &             regularizer)
     : m_Size(size)
   {
     const size_t count = size[0] * size[1] * size[2];
+    if (regularizer.rows() != static_cast<Eigen::Index>(count) || regularizer.cols() != regularizer.rows())
+    {
+      itkGenericExceptionMacro(<< "BSplineNormalMatrixAssembler: a " << regularizer.rows() << " x "
+                               << regularizer.cols() << " regularizer for " << count << " coefficients");
+    }
     if (indices.size() != weights.size())
     {
       itkGenericExceptionMacro(<< "BSplineNormalMatrixAssembler: " << indices.size() << " supports but "
@@ -110,19 +116,14 @@ public:
       m_Blocks.push_back(std::move(block));
     }
 
-    // The entries needed: every pair at most 2 steps apart (the bending matrix) and every pair within one block.
+    // The entries needed: the regularizer's and every pair within one block.
     std::vector<char> needed(count * Offsets, 0);
-    for (size_t column = 0; column < count; ++column)
+    for (Eigen::Index column = 0; column < regularizer.outerSize(); ++column)
     {
-      for (long c = -2; c <= 2; ++c)
+      for (SparseMatrix::InnerIterator entry(regularizer, column); entry; ++entry)
       {
-        for (long b = -2; b <= 2; ++b)
-        {
-          for (long a = -2; a <= 2; ++a)
-          {
-            needed[column * Offsets + OffsetIndex(a, b, c)] = 1;
-          }
-        }
+        needed[static_cast<size_t>(column) * Offsets +
+               OffsetBetween(static_cast<size_t>(entry.row()), static_cast<size_t>(column))] = 1;
       }
     }
     for (const Block & block : m_Blocks)
@@ -199,16 +200,10 @@ public:
     Eigen::VectorXd values = Eigen::VectorXd::Zero(m_Pattern.nonZeros());
     for (Eigen::Index column = 0; column < matrix.outerSize(); ++column)
     {
-      const std::array<long, 3> at = LatticeCoordinates(static_cast<size_t>(column));
       for (SparseMatrix::InnerIterator entry(matrix, column); entry; ++entry)
       {
-        const std::array<long, 3> row = LatticeCoordinates(static_cast<size_t>(entry.row()));
-        const long                a = row[0] - at[0];
-        const long                b = row[1] - at[1];
-        const long                c = row[2] - at[2];
-        const int                 position = std::max({ std::abs(a), std::abs(b), std::abs(c) }) > 3
-                                               ? -1
-                                               : m_Positions[static_cast<size_t>(column) * Offsets + OffsetIndex(a, b, c)];
+        const int position = m_Positions[static_cast<size_t>(column) * Offsets +
+                                         OffsetBetween(static_cast<size_t>(entry.row()), static_cast<size_t>(column))];
         if (position < 0)
         {
           itkGenericExceptionMacro(<< "BSplineNormalMatrixAssembler: entry (" << entry.row() << ", " << column
@@ -278,6 +273,20 @@ private:
   OffsetIndex(long a, long b, long c)
   {
     return static_cast<unsigned int>((a + 3) + 7 * ((b + 3) + 7 * (c + 3)));
+  }
+
+  /** The offset index of row \c row in column \c column; throws beyond 3 lattice steps along an axis. */
+  unsigned int
+  OffsetBetween(size_t row, size_t column) const
+  {
+    const std::array<long, 3> p = LatticeCoordinates(row);
+    const std::array<long, 3> q = LatticeCoordinates(column);
+    if (std::max({ std::abs(p[0] - q[0]), std::abs(p[1] - q[1]), std::abs(p[2] - q[2]) }) > 3)
+    {
+      itkGenericExceptionMacro(<< "BSplineNormalMatrixAssembler: entry (" << row << ", " << column
+                               << ") is more than 3 lattice steps off the diagonal");
+    }
+    return OffsetIndex(p[0] - q[0], p[1] - q[1], p[2] - q[2]);
   }
 
   std::array<long, 3>

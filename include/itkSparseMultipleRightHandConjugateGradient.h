@@ -95,7 +95,6 @@ SolveSparseConjugateGradient(const Eigen::SparseMatrix<double> &                
   BlockType    direction = inverseDiagonal.asDiagonal() * residual;
   RowType      rho = (residual.cwiseProduct(direction)).colwise().sum();
   BlockType    product(size, TColumns);
-  BlockType    preconditioned(size, TColumns);
   unsigned int iterations = 0;
   for (; iterations < maximumIterations; ++iterations)
   {
@@ -109,8 +108,12 @@ SolveSparseConjugateGradient(const Eigen::SparseMatrix<double> &                
       break;
     }
     product.noalias() = transposed * direction;
-    const RowType curvature = (direction.cwiseProduct(product)).colwise().sum();
-    RowType       alpha = RowType::Zero();
+    RowType curvature = RowType::Zero();
+    for (Eigen::Index n = 0; n < size; ++n)
+    {
+      curvature += direction.row(n).cwiseProduct(product.row(n));
+    }
+    RowType alpha = RowType::Zero();
     for (int c = 0; c < TColumns; ++c)
     {
       if (active(c) && curvature[c] > 0.0)
@@ -118,12 +121,18 @@ SolveSparseConjugateGradient(const Eigen::SparseMatrix<double> &                
         alpha[c] = rho[c] / curvature[c];
       }
     }
-    solution.noalias() += direction * alpha.asDiagonal();
-    residual.noalias() -= product * alpha.asDiagonal();
-    residualNorm2 = residual.colwise().squaredNorm();
-    preconditioned.noalias() = inverseDiagonal.asDiagonal() * residual;
-    const RowType rhoNew = (residual.cwiseProduct(preconditioned)).colwise().sum();
-    RowType       beta = RowType::Zero();
+    // One pass: the step, the new residual, its norm, its preconditioned form (kept in product) and rho.
+    RowType rhoNew = RowType::Zero();
+    residualNorm2.setZero();
+    for (Eigen::Index n = 0; n < size; ++n)
+    {
+      solution.row(n) += direction.row(n).cwiseProduct(alpha);
+      residual.row(n) -= product.row(n).cwiseProduct(alpha);
+      residualNorm2 += residual.row(n).cwiseAbs2();
+      product.row(n) = inverseDiagonal[n] * residual.row(n);
+      rhoNew += residual.row(n).cwiseProduct(product.row(n));
+    }
+    RowType beta = RowType::Zero();
     for (int c = 0; c < TColumns; ++c)
     {
       if (alpha[c] != 0.0 && rho[c] != 0.0)
@@ -135,7 +144,10 @@ SolveSparseConjugateGradient(const Eigen::SparseMatrix<double> &                
         residualNorm2[c] = 0.0; // a column that made no step has converged or broken down: freeze it
       }
     }
-    direction = preconditioned + direction * beta.asDiagonal();
+    for (Eigen::Index n = 0; n < size; ++n)
+    {
+      direction.row(n) = product.row(n) + direction.row(n).cwiseProduct(beta);
+    }
     rho = rhoNew;
   }
   return iterations;

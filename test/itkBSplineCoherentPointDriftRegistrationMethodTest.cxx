@@ -225,7 +225,8 @@ TestNormalMatrixAssembler()
   }
   mass[1] = 0.0; // one sample of a shared block without mass
 
-  const Assembler assembler(size, indices, weights);
+  const auto      bending = itk::detail::BSplineLatticeBendingMatrix(size);
+  const Assembler assembler(size, indices, weights, bending);
   Eigen::VectorXd values;
   assembler.Assemble(mass, values);
   Eigen::SparseMatrix<double> assembled;
@@ -236,8 +237,7 @@ TestNormalMatrixAssembler()
             << difference << std::endl;
   ITK_TEST_EXPECT_TRUE(difference < 1e-12 && Eigen::MatrixXd(reference).cwiseAbs().maxCoeff() > 1.0);
 
-  // The pattern: every pair at most 2 steps apart along each axis, every pair inside one sample's support block, and
-  // nothing else.
+  // The pattern: every entry of the bending matrix, every pair inside one sample's support block, and nothing else.
   const Eigen::SparseMatrix<double> & pattern = assembler.GetPattern();
   const auto                          coordinates = [&size](size_t n) {
     return std::array<long, 3>{ static_cast<long>(n % size[0]),
@@ -256,7 +256,15 @@ TestNormalMatrixAssembler()
     return true;
   };
   size_t                expected = 0;
-  std::array<size_t, 2> uncovered{ count, count }; // a pair 3 steps apart that no block covers
+  std::array<size_t, 2> uncovered{ count, count };   // a pair 3 steps apart that no block covers
+  std::vector<char>     inBending(count * count, 0); // the bending matrix's entries (its structure)
+  for (Eigen::Index column = 0; column < bending.outerSize(); ++column)
+  {
+    for (Eigen::SparseMatrix<double>::InnerIterator entry(bending, column); entry; ++entry)
+    {
+      inBending[static_cast<size_t>(entry.row()) * count + static_cast<size_t>(column)] = 1;
+    }
+  }
   for (size_t column = 0; column < count; ++column)
   {
     for (size_t row = 0; row < count; ++row)
@@ -264,7 +272,7 @@ TestNormalMatrixAssembler()
       const auto p = coordinates(row);
       const auto q = coordinates(column);
       const long steps = std::max({ std::abs(p[0] - q[0]), std::abs(p[1] - q[1]), std::abs(p[2] - q[2]) });
-      bool       covered = steps <= 2;
+      bool       covered = inBending[row * count + column] != 0;
       for (size_t m = 0; m < firsts.size() && !covered; ++m)
       {
         covered = inBlock(p, q, m);
@@ -278,7 +286,6 @@ TestNormalMatrixAssembler()
   }
   ITK_TEST_EXPECT_EQUAL(static_cast<size_t>(pattern.nonZeros()), expected);
 
-  const auto                  bending = itk::detail::BSplineLatticeBendingMatrix(size);
   Eigen::SparseMatrix<double> filled;
   assembler.Fill(assembler.Align(bending), filled);
   ITK_TEST_EXPECT_TRUE((Eigen::MatrixXd(filled) - Eigen::MatrixXd(bending)).cwiseAbs().maxCoeff() == 0.0);
@@ -294,9 +301,11 @@ TestNormalMatrixAssembler()
   ITK_TRY_EXPECT_EXCEPTION(assembler.Align(small));
   auto outside = indices;
   outside[0][63] = static_cast<unsigned int>(count);
-  ITK_TRY_EXPECT_EXCEPTION(Assembler(size, outside, weights));
+  ITK_TRY_EXPECT_EXCEPTION(Assembler(size, outside, weights, bending));
+  ITK_TRY_EXPECT_EXCEPTION(Assembler(size, indices, weights, small));
+  ITK_TRY_EXPECT_EXCEPTION(Assembler(size, indices, weights, far));
   weights.pop_back();
-  ITK_TRY_EXPECT_EXCEPTION(Assembler(size, indices, weights));
+  ITK_TRY_EXPECT_EXCEPTION(Assembler(size, indices, weights, bending));
   return EXIT_SUCCESS;
 }
 
