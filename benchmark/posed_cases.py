@@ -167,9 +167,12 @@ def main():
         if not a or not p:
             print("| %s | %g | %s | failed | | | | |" % (row["case"], row["angle"], a and "%.3f" % a["true_error"]))
             continue
-        print("| %s | %g° | %.3f | %.3f | %.2f | %.2f°, %.4f | %.3f | %.1f |" % (
-            row["case"], row["angle"], a["true_error"], p["true_error"], row["ratio_to_scaled_aligned"],
-            p["pose"]["rotation_angle_degrees"], p["pose"]["scale"], p["min_det_j"], p["seconds"]["pose"]))
+        # With --initial-transform none there is no pose stage: no pose found, no pose time.
+        found = ("%.2f°, %.4f" % (p["pose"]["rotation_angle_degrees"], p["pose"]["scale"])
+                 if p["pose"] else "none (no pose stage)")
+        print("| %s | %g° | %.3f | %.3f | %.2f | %s | %.3f | %.1f |" % (
+            row["case"], row["angle"], a["true_error"], p["true_error"], row["ratio_to_scaled_aligned"], found,
+            p["min_det_j"], p["seconds"]["pose"]))
     return 0
 
 

@@ -508,14 +508,15 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
         }
         std::array<size_t, 64> neighbors{};
         std::array<double, 64> squaredDistances{};
-        const size_t           found =
-          movingTree.knnSearch(q.GetDataPointer(), forwardNeighbors, neighbors.data(), squaredDistances.data());
+        // Only neighbours within 3 sigma carry a weight: the search is bounded there.
+        const size_t found = detail::SearchNearestWithinRadius(
+          movingTree, q.GetDataPointer(), forwardNeighbors, radius2, neighbors.data(), squaredDistances.data());
         double                 total = 0.0;
         std::array<double, 64> g{};
         for (size_t j = 0; j < found; ++j)
         {
           const double d2 = squaredDistances[j];
-          g[j] = d2 < radius2 ? std::exp(-0.5 * d2 / sigma2) : 0.0;
+          g[j] = std::exp(-0.5 * d2 / sigma2);
           total += g[j];
         }
         if (total <= 0.0)
@@ -562,8 +563,10 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
         [&](SizeValueType n) {
           std::array<size_t, 64> neighbors{};
           std::array<double, 64> squaredDistances{};
-          const size_t           found =
-            mappedTree.knnSearch(x[n].GetDataPointer(), reverseNeighbors, neighbors.data(), squaredDistances.data());
+          // A source sample with no mapped target sample within 3 sigma takes no share (most of the source, where
+          // the target is a patch): the bounded search finds that without descending the tree.
+          const size_t found = detail::SearchNearestWithinRadius(
+            mappedTree, x[n].GetDataPointer(), reverseNeighbors, radius2, neighbors.data(), squaredDistances.data());
           if (found == 0 || nearBoundary[neighbors[0]])
           {
             return;
@@ -572,7 +575,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
           for (size_t j = 0; j < found; ++j)
           {
             const double d2 = squaredDistances[j];
-            shares[n][j] = d2 < radius2 ? std::exp(-0.5 * d2 / sigma2) : 0.0;
+            shares[n][j] = std::exp(-0.5 * d2 / sigma2);
             shareIds[n][j] = static_cast<unsigned int>(neighbors[j]);
             total += shares[n][j];
           }
@@ -686,15 +689,25 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     }
     coefficient = solved;
     // sigma^2 from the new positions.
-    const double newResidual = residualAt(target + basis * coefficient);
+    const Eigen::MatrixXd moved = target + basis * coefficient;
+    const double          newResidual = residualAt(moved);
+    const double          move = std::sqrt((moved - mapped).squaredNorm() / static_cast<double>(numberOfFixed));
     sigma2 = std::max(newResidual / (Dimension * totalMass), sigmaFloor * sigmaFloor);
     this->UpdateProgress(static_cast<float>(iteration + 1) / static_cast<float>(m_NumberOfIterations));
     this->InvokeEvent(IterationEvent());
-    if (change < 1e-4 * spacing && std::sqrt(sigma2) <= sigmaFloor * (1.0 + 1e-6))
+    const bool atFloor = std::sqrt(sigma2) <= sigmaFloor * (1.0 + 1e-6);
+    if (atFloor && change < 1e-4 * spacing)
     {
       ++iteration;
       stop << "cpd: converged after " << iteration << " iterations (largest coefficient change below 1e-4 x the "
            << "control spacing at the minimum sigma)";
+      break;
+    }
+    if (atFloor && move < m_ConvergenceTolerance * spacing)
+    {
+      ++iteration;
+      stop << "cpd: converged after " << iteration << " iterations (the mapped target samples moved " << move
+           << " mm RMS, below " << m_ConvergenceTolerance << " x the control spacing, at the minimum sigma)";
       break;
     }
   }
@@ -724,6 +737,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::PrintSelf(
   os << indent << "ForwardWeight: " << m_ForwardWeight << std::endl;
   os << indent << "OutlierWeight: " << m_OutlierWeight << std::endl;
   os << indent << "NumberOfIterations: " << m_NumberOfIterations << std::endl;
+  os << indent << "ConvergenceTolerance: " << m_ConvergenceTolerance << std::endl;
   os << indent << "OverRelaxation: " << m_OverRelaxation << std::endl;
   os << indent << "InitialSigma: " << m_InitialSigma << std::endl;
   os << indent << "MinimumSigma: " << m_MinimumSigma << std::endl;

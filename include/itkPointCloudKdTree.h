@@ -58,6 +58,99 @@ using PointCloudKdTree =
                                       PointCloudAdaptor<TPoint>,
                                       3,
                                       size_t>;
+
+/** nanoflann's result set for the k nearest points closer than a radius: a k-nearest search whose bound starts at
+ * the radius instead of infinity, so that branches of the tree beyond it are never visited. The points are kept
+ * nearest first in caller-owned arrays of length k. Written to the interface that nanoflann's searches call (the
+ * same in its versions 1.4 to 1.7): addPoint, worstDist, size, full and sort. */
+class NearestWithinRadiusResultSet
+{
+public:
+  using DistanceType = double;
+  using IndexType = size_t;
+  using CountType = size_t;
+
+  NearestWithinRadiusResultSet(size_t capacity, double squaredRadius, size_t * indices, double * squaredDistances)
+    : m_Indices(indices)
+    , m_SquaredDistances(squaredDistances)
+    , m_Capacity(capacity)
+    , m_SquaredRadius(squaredRadius)
+  {}
+
+  size_t
+  size() const
+  {
+    return m_Count;
+  }
+  bool
+  empty() const
+  {
+    return m_Count == 0;
+  }
+  bool
+  full() const
+  {
+    return m_Count == m_Capacity;
+  }
+  /** The bound of the search: the radius until k points are held, then the k-th distance. */
+  double
+  worstDist() const
+  {
+    return m_Count < m_Capacity ? m_SquaredRadius : m_SquaredDistances[m_Count - 1];
+  }
+  /** Inserts a point in distance order if it is within the bound; the search always continues. */
+  bool
+  addPoint(double squaredDistance, size_t index)
+  {
+    if (m_Capacity == 0 || !(squaredDistance < worstDist()))
+    {
+      return true;
+    }
+    size_t position = m_Count < m_Capacity ? m_Count : m_Capacity - 1;
+    for (; position > 0 && m_SquaredDistances[position - 1] > squaredDistance; --position)
+    {
+      m_SquaredDistances[position] = m_SquaredDistances[position - 1];
+      m_Indices[position] = m_Indices[position - 1];
+    }
+    m_SquaredDistances[position] = squaredDistance;
+    m_Indices[position] = index;
+    if (m_Count < m_Capacity)
+    {
+      ++m_Count;
+    }
+    return true;
+  }
+  void
+  sort()
+  {} // kept in order by addPoint
+
+private:
+  size_t * m_Indices;
+  double * m_SquaredDistances;
+  size_t   m_Capacity;
+  double   m_SquaredRadius;
+  size_t   m_Count{ 0 };
+};
+
+/** The at most k points of a k-d tree nearest to a query among those at a squared distance below squaredRadius,
+ * nearest first: knnSearch's answer without the points at or beyond the radius, found without visiting the parts of
+ * the tree beyond it. Returns how many were found. */
+template <typename TTree>
+size_t
+SearchNearestWithinRadius(const TTree &  tree,
+                          const double * query,
+                          size_t         k,
+                          double         squaredRadius,
+                          size_t *       indices,
+                          double *       squaredDistances)
+{
+  NearestWithinRadiusResultSet result(k, squaredRadius, indices, squaredDistances);
+  if (k > 0)
+  {
+    tree.findNeighbors(result, query, {});
+  }
+  return result.size();
+}
 } // namespace detail
 } // namespace itk
 

@@ -16,8 +16,8 @@
  *
  *=========================================================================*/
 // BSplineCoherentPointDriftRegistrationMethod (the CPD method): its lattice bending energy, B-spline weights and
-// normal-matrix assembly against brute force, ITK and Eigen, and the registration of a deformed cap to a sphere with
-// known correspondences.
+// normal-matrix assembly and k-d tree search within a radius against brute force, ITK and Eigen, and the registration
+// of a deformed cap to a sphere with known correspondences.
 
 #include "itkBSplineCoherentPointDriftRegistrationMethod.h"
 #include "itkShapeMatchingTestMeshes.h"
@@ -28,8 +28,11 @@
 #include ITK_EIGEN(IterativeLinearSolvers)
 #include ITK_EIGEN(SparseCholesky)
 
+#include <algorithm>
 #include <iostream>
+#include <limits>
 #include <random>
+#include <string>
 
 namespace
 {
@@ -393,13 +396,85 @@ TestConjugateGradient()
   return EXIT_SUCCESS;
 }
 
+// The k-d tree's nearest points within a radius against brute force: every count and radius, including none found,
+// fewer than k within the radius, k beyond the cloud's size and an unbounded radius (knnSearch's answer).
+int
+TestNearestWithinRadius()
+{
+  using PointType = itk::Point<double, 3>; // as the registration's samples
+  std::mt19937                           engine(11);
+  std::uniform_real_distribution<double> uniform(0.0, 10.0);
+  std::vector<PointType>                 cloud(500);
+  for (auto & point : cloud)
+  {
+    for (unsigned int d = 0; d < 3; ++d)
+    {
+      point[d] = uniform(engine);
+    }
+  }
+  const itk::detail::PointCloudAdaptor<PointType> adaptor{ cloud };
+  itk::detail::PointCloudKdTree<PointType>        tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(8));
+  tree.buildIndex();
+  size_t checked = 0;
+  for (unsigned int q = 0; q < 100; ++q)
+  {
+    PointType query;
+    for (unsigned int d = 0; d < 3; ++d)
+    {
+      query[d] = uniform(engine) * 1.2 - 1.0; // some queries outside the cloud's box
+    }
+    std::vector<std::pair<double, size_t>> all;
+    for (size_t n = 0; n < cloud.size(); ++n)
+    {
+      all.emplace_back(query.SquaredEuclideanDistanceTo(cloud[n]), n);
+    }
+    std::sort(all.begin(), all.end());
+    for (const size_t k : { size_t{ 0 }, size_t{ 1 }, size_t{ 8 }, size_t{ 600 } })
+    {
+      for (const double squaredRadius : { 0.0, 0.25, 4.0, 1e300 })
+      {
+        std::vector<size_t> indices(k + 1, 99999);
+        std::vector<double> distances(k + 1, -1.0);
+        const size_t        found = itk::detail::SearchNearestWithinRadius(
+          tree, query.GetDataPointer(), k, squaredRadius, indices.data(), distances.data());
+        size_t expected = 0;
+        while (expected < k && expected < all.size() && all[expected].first < squaredRadius)
+        {
+          ++expected;
+        }
+        ITK_TEST_EXPECT_EQUAL(found, expected);
+        for (size_t j = 0; j < found; ++j)
+        {
+          ITK_TEST_EXPECT_EQUAL(indices[j], all[j].second);
+          ITK_TEST_EXPECT_TRUE(distances[j] == all[j].first);
+        }
+        ITK_TEST_EXPECT_EQUAL(indices[k], 99999u); // nothing written past k
+        checked += found;
+      }
+    }
+    // Unbounded, the same as nanoflann's own k-nearest search.
+    std::array<size_t, 8> bounded{};
+    std::array<size_t, 8> plain{};
+    std::array<double, 8> boundedDistances{};
+    std::array<double, 8> plainDistances{};
+    itk::detail::SearchNearestWithinRadius(
+      tree, query.GetDataPointer(), 8, std::numeric_limits<double>::max(), bounded.data(), boundedDistances.data());
+    tree.knnSearch(query.GetDataPointer(), 8, plain.data(), plainDistances.data());
+    ITK_TEST_EXPECT_TRUE(bounded == plain && boundedDistances == plainDistances);
+  }
+  std::cout << "nearest within a radius: " << checked << " points found as by brute force" << std::endl;
+  ITK_TEST_EXPECT_TRUE(checked > 1000);
+  return EXIT_SUCCESS;
+}
+
 } // namespace
 
 int
 itkBSplineCoherentPointDriftRegistrationMethodTest(int, char *[])
 {
   if (TestBendingMatrix() != EXIT_SUCCESS || TestSupportWeights() != EXIT_SUCCESS ||
-      TestNormalMatrixAssembler() != EXIT_SUCCESS || TestConjugateGradient() != EXIT_SUCCESS)
+      TestNormalMatrixAssembler() != EXIT_SUCCESS || TestConjugateGradient() != EXIT_SUCCESS ||
+      TestNearestWithinRadius() != EXIT_SUCCESS)
   {
     return EXIT_FAILURE;
   }
@@ -423,6 +498,10 @@ itkBSplineCoherentPointDriftRegistrationMethodTest(int, char *[])
   ITK_TEST_SET_GET_VALUE(0.5, registration->GetForwardWeight());
   registration->SetForwardWeight(2.0);
   ITK_TEST_SET_GET_VALUE(1.0, registration->GetForwardWeight()); // clamped
+  ITK_TEST_SET_GET_VALUE(1e-3, registration->GetConvergenceTolerance());
+  registration->SetConvergenceTolerance(-1.0);
+  ITK_TEST_SET_GET_VALUE(0.0, registration->GetConvergenceTolerance()); // clamped
+  registration->SetConvergenceTolerance(1e-3);
 
   // Bad input: no meshes, an empty one, a target without polygons, meshes apart, an initial transform that is not a
   // B-spline.
@@ -493,6 +572,36 @@ itkBSplineCoherentPointDriftRegistrationMethodTest(int, char *[])
     std::cout << "over-relaxed EM: true error " << relaxedError << " mm (plain " << after << " mm)" << std::endl;
     ITK_TEST_EXPECT_TRUE(relaxedError < before);
     ITK_TEST_EXPECT_TRUE(std::abs(relaxedError - after) > 1e-6); // the setting is used
+  }
+
+  // The convergence tolerance: with none the run takes every iteration; a coarse one stops it once sigma is at its
+  // floor, earlier, and says why; the default stops between the two.
+  {
+    const auto runWith = [&](double tolerance, unsigned int & count, std::string & description) {
+      auto run = RegistrationType::New();
+      run->SetFixedMesh(target);
+      run->SetMovingMesh(source);
+      run->SetNumberOfControlPointsPerAxis(8);
+      run->SetConvergenceTolerance(tolerance);
+      run->Update();
+      count = static_cast<unsigned int>(run->GetSigmaValues().size());
+      description = run->GetStopConditionDescription();
+      return TransformTrueError(run->GetTransform(), source, target, truth);
+    };
+    unsigned int fullCount = 0;
+    unsigned int coarseCount = 0;
+    std::string  fullStop;
+    std::string  coarseStop;
+    const double fullError = runWith(0.0, fullCount, fullStop);
+    const double coarseError = runWith(0.05, coarseCount, coarseStop);
+    std::cout << "convergence tolerance 0: " << fullCount << " iterations, " << fullError << " mm (" << fullStop
+              << "); 0.05: " << coarseCount << " iterations, " << coarseError << " mm (" << coarseStop
+              << "); 1e-3: " << iterations << " iterations, " << after << " mm" << std::endl;
+    ITK_TEST_EXPECT_EQUAL(fullCount, 40u);
+    ITK_TEST_EXPECT_TRUE(fullStop.find("the maximum") != std::string::npos);
+    ITK_TEST_EXPECT_TRUE(coarseCount < iterations && iterations <= fullCount);
+    ITK_TEST_EXPECT_TRUE(coarseStop.find("mm RMS, below 0.05 x the control spacing") != std::string::npos);
+    ITK_TEST_EXPECT_TRUE(coarseError < before);
   }
 
   // From an initial B-spline: its grid is kept, and a further run from the result does not undo it.
