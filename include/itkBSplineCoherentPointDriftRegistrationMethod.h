@@ -155,11 +155,12 @@ public:
   itkGetConstMacro(NumberOfIterations, unsigned int);
 
   /** The run stops before NumberOfIterations once sigma is at its floor and an iteration moves the mapped target
-   * samples by less than ConvergenceTolerance control spacings (root mean square over the samples); 0 means only
-   * the iteration count stops it. Default: 1e-3 (2-4 um on the benchmark's cases, whose control spacings are 2-4 mm):
-   * where the surfaces already correspond, as in the benchmark's paper regime, the true error is flat after 12-19
-   * iterations and the run stops there; where the samples still slide along the surface the moves stay above it
-   * and the run goes on (benchmark/PEERS_MESH.md). */
+   * samples by less than ConvergenceTolerance control spacings (root mean square over the samples); 0 turns this
+   * test off (the run then stops after NumberOfIterations, or when no coefficient changes by 1e-4 control spacings).
+   * Default: 1e-3 (2-4 um on the benchmark's cases, whose control spacings are 2-4 mm): where the surfaces already
+   * correspond, as in the benchmark's paper regime, the true error is flat after 12-19 iterations and the run stops
+   * there; where the samples still slide along the surface the moves stay above it and the run goes on
+   * (benchmark/PEERS_MESH.md). */
   itkSetClampMacro(ConvergenceTolerance, double, 0.0, NumericTraits<double>::max());
   itkGetConstMacro(ConvergenceTolerance, double);
 

@@ -377,7 +377,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   const detail::BSplineNormalMatrixAssembler normalMatrix(
     { gridSize[0], gridSize[1], gridSize[2] }, indices, weights, regularizer);
   const Eigen::VectorXd prior = normalMatrix.Align(regularizer);
-  SparseMatrix          system = normalMatrix.GetPattern();
+  SparseMatrix          system; // Fill gives it the pattern
   Eigen::VectorXd       dataValues;
 
   // The coefficients c (one column per dimension) and the mapped samples Y + B c.
@@ -408,14 +408,15 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   // The widths. From the identity: 1.1 and 0.25 control spacings. From a voxel method's result, whose surfaces
   // already meet: at most 0.4 and 0.15 control spacings, and less when the surfaces are closer: 10 x the RMS
   // distance from the mapped target samples to their nearest source sample, the floor at most half the start.
-  double startDistance = NumericTraits<double>::max();
+  // The mapped target samples Y + B c, kept current with the coefficients.
+  Eigen::MatrixXd mapped = target + basis * coefficient;
+  double          startDistance = NumericTraits<double>::max();
   if (refining)
   {
-    double                startSquares = 0.0;
-    const Eigen::MatrixXd start = target + basis * coefficient;
+    double startSquares = 0.0;
     for (size_t m = 0; m < numberOfFixed; ++m)
     {
-      const std::array<double, 3> q{ start(m, 0), start(m, 1), start(m, 2) };
+      const std::array<double, 3> q{ mapped(m, 0), mapped(m, 1), mapped(m, 2) };
       size_t                      nearest = 0;
       double                      squared = 0.0;
       movingTree.knnSearch(q.data(), 1, &nearest, &squared);
@@ -489,8 +490,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
       stop << "cpd: the run-time limit was reached after " << iteration << " iterations";
       break;
     }
-    const Eigen::MatrixXd mapped = target + basis * coefficient;
-    const double          radius2 = 9.0 * sigma2;
+    const double radius2 = 9.0 * sigma2;
 
     // E-step. Per target sample m: the matched mass P1_m, sum_n P_mn x_n and sum_n P_mn |x_n|^2.
     std::fill(mass.begin(), mass.end(), 0.0);
@@ -689,9 +689,10 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     }
     coefficient = solved;
     // sigma^2 from the new positions.
-    const Eigen::MatrixXd moved = target + basis * coefficient;
-    const double          newResidual = residualAt(moved);
-    const double          move = std::sqrt((moved - mapped).squaredNorm() / static_cast<double>(numberOfFixed));
+    Eigen::MatrixXd moved = target + basis * coefficient;
+    const double    newResidual = residualAt(moved);
+    const double    move = std::sqrt((moved - mapped).squaredNorm() / static_cast<double>(numberOfFixed));
+    mapped.swap(moved);
     sigma2 = std::max(newResidual / (Dimension * totalMass), sigmaFloor * sigmaFloor);
     this->UpdateProgress(static_cast<float>(iteration + 1) / static_cast<float>(m_NumberOfIterations));
     this->InvokeEvent(IterationEvent());
