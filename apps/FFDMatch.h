@@ -75,6 +75,7 @@ struct Options
   std::optional<bool>         mrfPyramid;
   std::optional<double>       timeLimit;                  // seconds of registration
   std::string                 initialTransform{ "none" }; // the pose stage: none, rigid, similarity or affine
+  std::optional<unsigned int> poseRefinementRuns;         // deformation runs added by the pose refinement
 };
 
 /** The options of the command line; throws Error on a bad one. --help prints the usage and exits. */

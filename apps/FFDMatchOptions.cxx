@@ -42,7 +42,8 @@ Usage()
            "                 [--grid N] [--voxel-size S] [--voxelization occupancy|solid|sdf]\n"
            "                 [--templates FILE.tfm] [--template-split none|control-point|axis]\n"
            "                 [--transform-out FILE.tfm] [--report FILE.json] [--snapshot FILE.png]\n"
-           "                 [--initial-transform none|rigid|similarity|affine] [--threads N] [--seed S]\n"
+           "                 [--initial-transform none|rigid|similarity|affine] [--pose-refinement N]\n"
+           "                 [--threads N] [--seed S]\n"
            "                 [--levels L] [--iterations N] [--sampling P]\n"
            "                 [--time-limit SECONDS] [--memory-limit MB]\n"
            "                 [--bending-weight W] [--folding-weight W] [--mrf-weight W] [--mrf-pyramid on|off]\n"
@@ -78,6 +79,9 @@ Usage()
            "                  overlap), or a rigid, similarity (rigid + isotropic scale) or affine pose found\n"
            "                  from any rotation, scale and translation, with a partial target; T is then the\n"
            "                  composite of the deformation and the pose\n"
+           "  --pose-refinement  with a pose stage and go+cpd: at most N more deformation runs from small\n"
+           "                  corrections of the pose (rotations, shifts, scalings), keeping the run whose\n"
+           "                  soft correspondences fit best (default 42; 0: the pose stage's pose only)\n"
            "  --transform-out write T (target space -> source space) as an ITK transform file\n"
            "  --report        write a JSON report (stage times, metric per iteration, distances, ...)\n"
            "  --snapshot      write a before/after picture (PNG; VTK off-screen rendering needs an X display:\n"
@@ -202,6 +206,10 @@ ParseArguments(int argc, char * argv[])
         throw Error("--initial-transform must be none, rigid, similarity or affine, not '" + options.initialTransform +
                     "'");
       }
+    }
+    else if (argument == "--pose-refinement")
+    {
+      options.poseRefinementRuns = WholeNumber(argument, value(), 0, 1000);
     }
     else if (argument == "--transform-out")
     {

@@ -263,6 +263,7 @@ NewMatchingFilter(const Options & options)
   given(options.mrfPyramid, [&](bool v) { filter->SetMRFUseImagePyramid(v); });
   given(options.timeLimit, [&](double v) { filter->SetMaximumRunTime(v); });
   given(options.seed, [&](int v) { filter->SetRandomSeed(v); });
+  given(options.poseRefinementRuns, [&](unsigned int v) { filter->SetPoseRefinementRuns(v); });
   if (!options.templates.empty())
   {
     filter->SetTemplateTransform(ReadTemplates(options));

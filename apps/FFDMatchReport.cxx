@@ -83,7 +83,13 @@ MatchReportJson(const Options & options, const MatchRecord & r)
            << "], \"score\": " << JsonNumber(r.poseScore)
            << ", \"runner_up_score\": " << JsonNumber(r.poseRunnerUpScore)
            << ", \"runner_up_rotation_distance_degrees\": " << JsonNumber(r.poseRunnerUpDistance)
-           << ", \"seconds\": " << JsonNumber(r.poseSeconds) << " },\n";
+           << ", \"seconds\": " << JsonNumber(r.poseSeconds)
+           << ", \"refinement\": { \"deformation_runs\": " << r.poseRefinementResiduals.size() << ", \"residuals\": [";
+    for (std::size_t i = 0; i < r.poseRefinementResiduals.size(); ++i)
+    {
+      report << (i ? ", " : "") << JsonNumber(r.poseRefinementResiduals[i]);
+    }
+    report << "], \"seconds\": " << JsonNumber(r.poseRefinementSeconds) << " } },\n";
   }
   report << "  \"seconds\": { \"read\": " << JsonNumber(r.readSeconds) << ", \"pose\": " << JsonNumber(r.poseSeconds)
          << ", \"voxelize\": " << JsonNumber(r.voxelizeSeconds) << ", \"register\": " << JsonNumber(r.registerSeconds)

@@ -84,6 +84,9 @@ struct MatchRecord
   double      poseScore{ 0.0 };
   double      poseRunnerUpScore{ 0.0 };
   double      poseRunnerUpDistance{ 0.0 };
+  // The pose refinement: the final soft-correspondence residual of each deformation run (empty: not run).
+  std::vector<double> poseRefinementResiduals;
+  double              poseRefinementSeconds{ 0.0 };
   // The scores.
   double      meanDistanceBefore{ 0.0 };
   double      hausdorffBefore{ 0.0 };

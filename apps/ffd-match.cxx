@@ -41,6 +41,7 @@
 #include "itkTransformIOFactory.h"
 #include "itkTransformToJacobianDeterminantImageFilter.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <iomanip>
@@ -172,15 +173,45 @@ Match(const Options & options, const GroundTruth * truth, const std::string & de
   const auto *                              apply = matching->GetModifiableMeshTransformFilter();
   const bool   posed = matching->GetInitialTransform() != itk::FFDShapeMatchingEnums::InitialTransform::None;
   const auto * pose = matching->GetModifiablePoseRegistration();
+  // The pose the deformation started from (the pose stage's, or its refinement's), decomposed.
+  itk::detail::MeshPoseDecomposition poseParts;
   if (posed)
   {
+    const auto * linear =
+      dynamic_cast<const itk::MatrixOffsetTransformBase<double, 3, 3> *>(matching->GetPoseTransform());
+    if (linear == nullptr)
+    {
+      throw Error("the pose is not a matrix-and-offset transform");
+    }
+    Eigen::Matrix3d matrix;
+    Eigen::Vector3d offset;
+    Eigen::Vector3d center;
+    for (unsigned int d = 0; d < 3; ++d)
+    {
+      offset[d] = linear->GetOffset()[d];
+      center[d] = linear->GetCenter()[d];
+      for (unsigned int e = 0; e < 3; ++e)
+      {
+        matrix(d, e) = linear->GetMatrix()(d, e);
+      }
+    }
+    poseParts = itk::detail::DecomposeMeshPose(
+      matrix, offset, center, matching->GetInitialTransform() == itk::FFDShapeMatchingEnums::InitialTransform::Rigid);
     std::cerr << "ffd-match: pose (" << options.initialTransform << ", target -> source): rotation " << std::fixed
-              << std::setprecision(2) << pose->GetRotationAngle() << " deg about (" << std::setprecision(3)
-              << pose->GetRotationAxis()[0] << ", " << pose->GetRotationAxis()[1] << ", " << pose->GetRotationAxis()[2]
-              << "), scale " << std::setprecision(4) << pose->GetScale() << ", translation (" << std::setprecision(2)
-              << pose->GetTranslation()[0] << ", " << pose->GetTranslation()[1] << ", " << pose->GetTranslation()[2]
-              << "); score " << std::setprecision(3) << pose->GetScore() << " (runner-up " << pose->GetRunnerUpScore()
-              << ") (" << std::setprecision(2) << matching->GetPoseTime() << " s)" << std::endl;
+              << std::setprecision(2) << poseParts.Angle << " deg about (" << std::setprecision(3) << poseParts.Axis[0]
+              << ", " << poseParts.Axis[1] << ", " << poseParts.Axis[2] << "), scale " << std::setprecision(4)
+              << poseParts.Scale << ", translation (" << std::setprecision(2) << poseParts.Translation[0] << ", "
+              << poseParts.Translation[1] << ", " << poseParts.Translation[2] << "); score " << std::setprecision(3)
+              << pose->GetScore() << " (runner-up " << pose->GetRunnerUpScore() << ") (" << std::setprecision(2)
+              << matching->GetPoseTime() << " s)" << std::endl;
+    const auto & residuals = matching->GetPoseRefinementResiduals();
+    if (!residuals.empty())
+    {
+      std::cerr << "ffd-match: pose refinement: " << residuals.size() - 1 << " more deformation runs, residual "
+                << std::setprecision(4) << residuals.front() << " -> "
+                << *std::min_element(residuals.begin(), residuals.end()) << " (" << std::setprecision(2)
+                << matching->GetPoseRefinementTime() << " s)" << std::endl;
+    }
   }
   std::cerr << "ffd-match: voxelize: " << std::fixed << std::setprecision(2) << matching->GetVoxelizationTime()
             << " s; register: " << matching->GetMetricValues().size() << " iterations, " << std::fixed
@@ -282,15 +313,17 @@ Match(const Options & options, const GroundTruth * truth, const std::string & de
     if (posed)
     {
       record.poseSeconds = matching->GetPoseTime();
-      record.poseAngle = pose->GetRotationAngle();
-      record.poseScale = pose->GetScale();
+      record.poseAngle = poseParts.Angle;
+      record.poseScale = poseParts.Scale;
+      record.poseRefinementResiduals = matching->GetPoseRefinementResiduals();
+      record.poseRefinementSeconds = matching->GetPoseRefinementTime();
       record.poseScore = pose->GetScore();
       record.poseRunnerUpScore = pose->GetRunnerUpScore();
       record.poseRunnerUpDistance = pose->GetRunnerUpRotationDistance();
       for (unsigned int d = 0; d < 3; ++d)
       {
-        record.poseAxis[d] = pose->GetRotationAxis()[d];
-        record.poseTranslation[d] = pose->GetTranslation()[d];
+        record.poseAxis[d] = poseParts.Axis[d];
+        record.poseTranslation[d] = poseParts.Translation[d];
       }
     }
     record.voxelizeSeconds = matching->GetVoxelizationTime();

@@ -76,6 +76,32 @@ MeshPoseScaleOf(const Eigen::Matrix3d & linear)
   return std::cbrt(std::abs(linear.determinant()));
 }
 
+/** A pose x -> L x + o decomposed for reports: the angle (degrees, 0 to 180) and unit axis of its rotation (the
+ * polar factor of L), its isotropic scale (1 for a rigid pose, else the cube root of |det L|) and the translation of
+ * \c center (where it goes, minus where it was). */
+struct MeshPoseDecomposition
+{
+  double          Angle{ 0.0 };
+  Eigen::Vector3d Axis{ 0.0, 0.0, 1.0 };
+  double          Scale{ 1.0 };
+  Eigen::Vector3d Translation{ 0.0, 0.0, 0.0 };
+};
+
+inline MeshPoseDecomposition
+DecomposeMeshPose(const Eigen::Matrix3d & linear,
+                  const Eigen::Vector3d & offset,
+                  const Eigen::Vector3d & center,
+                  bool                    rigid)
+{
+  MeshPoseDecomposition result;
+  result.Translation = linear * center + offset - center;
+  result.Scale = rigid ? 1.0 : MeshPoseScaleOf(linear);
+  const Eigen::AngleAxisd angleAxis(MeshPoseRotationOf(linear));
+  result.Angle = angleAxis.angle() * 180.0 / Math::pi;
+  result.Axis = angleAxis.axis();
+  return result;
+}
+
 /** The angle in degrees of the rotation \c a^T \c b. */
 inline double
 MeshPoseRotationDistance(const Eigen::Matrix3d & a, const Eigen::Matrix3d & b)
@@ -774,29 +800,26 @@ MeshPoseRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateData()
   m_RefinementTime = std::chrono::duration<double>(ClockType::now() - refineStart).count();
 
   // The transform, centred at the target centroid: A(x) = M (x - c) + c + translation.
-  const Eigen::Vector3d c = targetMoments.first;
-  const Eigen::Vector3d translation = winner.Linear * c + winner.Translation - c;
+  const Eigen::Vector3d               c = targetMoments.first;
+  const detail::MeshPoseDecomposition parts =
+    detail::DecomposeMeshPose(winner.Linear, winner.Translation, c, m_PoseType == PoseTypeEnum::Rigid);
   const Eigen::Matrix3d rotation = detail::MeshPoseRotationOf(winner.Linear);
   PointType             center;
   VectorType            translationVector;
   for (unsigned int d = 0; d < Dimension; ++d)
   {
     center[d] = c[d];
-    translationVector[d] = translation[d];
+    translationVector[d] = parts.Translation[d];
     m_Offset[d] = winner.Translation[d];
+    m_RotationAxis[d] = parts.Axis[d];
     for (unsigned int e = 0; e < Dimension; ++e)
     {
       m_Matrix(d, e) = winner.Linear(d, e);
     }
   }
   m_Translation = translationVector;
-  m_Scale = m_PoseType == PoseTypeEnum::Rigid ? 1.0 : detail::MeshPoseScaleOf(winner.Linear);
-  const Eigen::AngleAxisd angleAxis(rotation);
-  m_RotationAngle = angleAxis.angle() * 180.0 / Math::pi;
-  for (unsigned int d = 0; d < Dimension; ++d)
-  {
-    m_RotationAxis[d] = angleAxis.axis()[d];
-  }
+  m_Scale = parts.Scale;
+  m_RotationAngle = parts.Angle;
   Eigen::Quaterniond quaternion(rotation);
   quaternion.normalize();
   if (quaternion.w() < 0.0)

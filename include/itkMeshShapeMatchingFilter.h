@@ -32,9 +32,11 @@
 #include "itkMeshToMeshFilter.h"
 #include "itkParametricTemplateRegistrationMethod.h"
 #include "itkParametricTemplateTransform.h"
+#include "itkPoseCorrection.h"
 #include "itkTransform.h"
 #include "itkTriangleMeshToVoxelImageFilter.h"
 
+#include <chrono>
 #include <string>
 #include <vector>
 
@@ -49,7 +51,8 @@ namespace itk
  * 0. with an InitialTransform (rigid, similarity or affine; default none), MeshPoseRegistrationMethod finds the pose
  *    A : target space -> source space from any start, and the target is moved into the source's frame by A
  *    (GetMatchingTargetMesh()); the deformation B below is estimated between the source and that moved target,
- *    and T = B o A (one CompositeTransform: A applied first) is the transform of the whole;
+ *    and T = B o A (one CompositeTransform: A applied first) is the transform of the whole; with
+ *    PoseRefinementRuns (method GOCPD), the pose is then refined by the deformation stage itself (below);
  * 1. both meshes are voxelized on the same voxel size (TriangleMeshToVoxelImageFilter; Voxelization: an unsigned
  *    distance band, surface occupancy or the solid), and the metric mask is the band around the target surface
  *    without the part near the target's open boundary (MeshOpenBoundaryMaskImageFilter);
@@ -63,6 +66,21 @@ namespace itk
  * GetOutput() is the deformed source: the source's vertex order, cells and point data, its points moved onto the
  * target. GetTransformOutput() is T as a decorated transform, ready for a TransformFileWriter or another mesh
  * filter. Progress is reported through a ProgressAccumulator.
+ *
+ * \par Pose refinement
+ * The pose stage fits surfaces; a surface fit can slide along flat or symmetric parts of a deformed target by a few
+ * degrees and millimetres, and the deformation stage does not slide such a start back (it converges to the nearest
+ * of several fits). With PoseRefinementRuns N > 0 and the GOCPD method, the filter searches for a better start: it
+ * runs the whole deformation stage from the pose A corrected by small similarities about the moved target's
+ * centroid (rotations about the three axes, shifts along them, and for Similarity and Affine poses a scaling; a
+ * pattern search from the steps PoseRefinementRotationStep, PoseRefinementShiftStep and PoseRefinementScaleStep,
+ * moving to the best of each round of neighbours and halving the steps after a round without gain), and keeps the
+ * start whose run ends with the lowest soft-correspondence residual of the CPD stage (the mean squared distance of
+ * its final E-step, divided by the square of the correction's scaling so that all runs compare in the same units;
+ * lower where the correspondences agree with the surfaces' detail). At most N runs are added to
+ * the first, and one more when the best was not the last. GetPoseRefinementResiduals() gives each run's residual in
+ * order, GetPoseTransform() the corrected pose. Under a MaximumRunTime, no refinement run starts after a third of it,
+ * and each run gets the time left.
  *
  * The filter holds the module's tuned settings of every method, measured on the module's benchmark; these are its
  * defaults and the defaults of the ffd-match program. The internal filters are reachable
@@ -150,6 +168,21 @@ public:
   itkSetEnumMacro(InitialTransform, InitialTransformEnum);
   itkGetEnumMacro(InitialTransform, InitialTransformEnum);
 
+  /** Deformation runs added by the pose refinement (see the class documentation; GOCPD with a pose stage only).
+   * Default: 42 (three rounds of the pattern search; measured on the benchmark's posed regime, PEERS_MESH.md). 0 turns
+   * it off. */
+  itkSetMacro(PoseRefinementRuns, unsigned int);
+  itkGetConstMacro(PoseRefinementRuns, unsigned int);
+
+  /** The pose refinement's first steps: a rotation in degrees (default 3), a shift as a fraction of the moved
+   * target's bounding-box diagonal (default 0.01) and a scaling as a relative change (default 0.02). */
+  itkSetClampMacro(PoseRefinementRotationStep, double, 1e-6, 90.0);
+  itkGetConstMacro(PoseRefinementRotationStep, double);
+  itkSetClampMacro(PoseRefinementShiftStep, double, 1e-9, 1.0);
+  itkGetConstMacro(PoseRefinementShiftStep, double);
+  itkSetClampMacro(PoseRefinementScaleStep, double, 1e-9, 0.5);
+  itkGetConstMacro(PoseRefinementScaleStep, double);
+
   /** How the meshes become images. Default: SignedDistance (an unsigned distance band; mean squares). */
   itkSetEnumMacro(Voxelization, VoxelizationEnum);
   itkGetEnumMacro(Voxelization, VoxelizationEnum);
@@ -229,6 +262,20 @@ public:
   {
     return m_DeformationTransform.GetPointer();
   }
+
+  /** The pose A : target space -> source space that the deformation started from (after Update() with a pose
+   * stage): the pose stage's, corrected by the pose refinement when it ran; nullptr without a pose stage. */
+  const TransformType *
+  GetPoseTransform() const
+  {
+    return m_PoseTransform.GetPointer();
+  }
+
+  /** The final soft-correspondence residual of each deformation run of the pose refinement, in order (the first is
+   * the pose stage's own pose), and the seconds the refinement took, in the last Update(). Empty and 0 when it did
+   * not run. */
+  itkGetConstReferenceMacro(PoseRefinementResiduals, std::vector<double>);
+  itkGetConstMacro(PoseRefinementTime, double);
 
   /** The target as the deformation stage sees it: moved into the source frame by the pose (the target itself
    * without a pose stage). */
@@ -310,6 +357,20 @@ private:
   void
   FindPose();
 
+  /** Moves the target into the source frame by the pose \c pose (m_MatchingTarget, m_PoseTransform). */
+  void
+  MoveTarget(const TransformType * pose);
+
+  /** Voxelizes, registers and refines (the deformation stage, from m_MatchingTarget) with \c timeLimit seconds for
+   * the registration (0: none); returns the deformation and keeps the stage times. */
+  const DecoratedTransformType *
+  Deform(double timeLimit);
+
+  /** The pose refinement: the pattern search over corrections of the pose stage's pose. Leaves the internal filters
+   * in the state of the best run and returns its deformation. */
+  const DecoratedTransformType *
+  RefinePose(const DecoratedTransformType * firstDeformation, std::chrono::steady_clock::time_point start);
+
   /** Voxelizes both meshes and builds the metric mask. */
   void
   VoxelizeMeshes();
@@ -318,9 +379,9 @@ private:
   void
   UpdateRegistration(ProcessObject * registration);
 
-  /** Runs the voxel method GO or MRF; returns its transform output. */
+  /** Runs the voxel method GO or MRF with \c timeLimit seconds (0: none); returns its transform output. */
   const DecoratedTransformType *
-  RegisterVoxels(MethodEnum method);
+  RegisterVoxels(MethodEnum method, double timeLimit);
 
   /** Runs Par, from \c base when given. */
   const DecoratedTransformType *
@@ -354,6 +415,10 @@ private:
   double               m_MaximumRunTime{ 0.0 };
   int                  m_RandomSeed{ 121212 };
   double               m_InverseTolerance{ 1e-4 };
+  unsigned int         m_PoseRefinementRuns{ 42 };
+  double               m_PoseRefinementRotationStep{ 3.0 };
+  double               m_PoseRefinementShiftStep{ 0.01 };
+  double               m_PoseRefinementScaleStep{ 0.02 };
 
   std::vector<double> m_MetricValues;
   std::string         m_MetricName;
@@ -365,10 +430,14 @@ private:
   double              m_VoxelizationTime{ 0.0 };
   double              m_RegistrationTime{ 0.0 };
   double              m_MeshTransformTime{ 0.0 };
+  std::vector<double> m_PoseRefinementResiduals;
+  double              m_PoseRefinementTime{ 0.0 };
 
   typename PoseRegistrationType::Pointer        m_PoseRegistration;
   typename MeshTransformFilterType::Pointer     m_PoseTransformFilter;
   typename MeshType::ConstPointer               m_MatchingTarget;
+  typename TransformType::ConstPointer          m_PoseTransform;
+  typename DecoratedTransformType::Pointer      m_PoseTransformInput;
   typename DecoratedTransformType::Pointer      m_ComposedTransform;
   typename DecoratedTransformType::ConstPointer m_DeformationTransform;
   typename VoxelizerType::Pointer               m_TargetVoxelizer;

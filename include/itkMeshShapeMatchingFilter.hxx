@@ -21,7 +21,9 @@
 #include "itkMeshShapeMatchingFilter.h"
 #include "itkProgressAccumulator.h"
 
+#include <array>
 #include <chrono>
+#include <cmath>
 #include <sstream>
 
 namespace itk
@@ -40,6 +42,7 @@ template <typename TMesh, typename TImage>
 MeshShapeMatchingFilter<TMesh, TImage>::MeshShapeMatchingFilter()
   : m_PoseRegistration(PoseRegistrationType::New())
   , m_PoseTransformFilter(MeshTransformFilterType::New())
+  , m_PoseTransformInput(DecoratedTransformType::New())
   , m_ComposedTransform(DecoratedTransformType::New())
   , m_TargetVoxelizer(VoxelizerType::New())
   , m_SourceVoxelizer(VoxelizerType::New())
@@ -158,14 +161,175 @@ MeshShapeMatchingFilter<TMesh, TImage>::FindPose()
   {
     itkExceptionMacro(<< "the pose stage failed: " << error.GetDescription());
   }
+  this->MoveTarget(m_PoseRegistration->GetTransform());
+}
+
+template <typename TMesh, typename TImage>
+void
+MeshShapeMatchingFilter<TMesh, TImage>::MoveTarget(const TransformType * pose)
+{
   // A moves the target into the source frame (forward: A maps target space to source space).
-  m_PoseTransformFilter->SetInput(target);
-  m_PoseTransformFilter->SetTransformInput(m_PoseRegistration->GetTransformOutput());
+  m_PoseTransform = pose;
+  m_PoseTransformInput->Set(pose);
+  m_PoseTransformFilter->SetInput(this->GetTargetMesh());
+  m_PoseTransformFilter->SetTransformInput(m_PoseTransformInput);
   m_PoseTransformFilter->InverseOff();
   m_PoseTransformFilter->Update();
   typename MeshType::Pointer moved = m_PoseTransformFilter->GetOutput();
   moved->DisconnectPipeline();
   m_MatchingTarget = moved;
+}
+
+template <typename TMesh, typename TImage>
+auto
+MeshShapeMatchingFilter<TMesh, TImage>::Deform(double timeLimit) -> const DecoratedTransformType *
+{
+  using ClockType = std::chrono::steady_clock;
+  const bool refineByPar = m_Method == MethodEnum::GOPar || m_Method == MethodEnum::MRFPar;
+  const bool refine = refineByPar || m_Method == MethodEnum::GOCPD;
+
+  // Voxelize (every method: the target image is also the grid on which T is scored).
+  auto start = ClockType::now();
+  this->VoxelizeMeshes();
+  m_VoxelizationTime = detail::SecondsSince(start);
+
+  // Register: T maps target (fixed) space to source (moving) space.
+  start = ClockType::now();
+  const DecoratedTransformType * transform = nullptr;
+  if (m_Method == MethodEnum::Par)
+  {
+    transform = this->RegisterMeshes(nullptr, timeLimit);
+  }
+  else
+  {
+    transform = this->RegisterVoxels(
+      m_Method == MethodEnum::MRF || m_Method == MethodEnum::MRFPar ? MethodEnum::MRF : MethodEnum::GO, timeLimit);
+    const double remaining = timeLimit - detail::SecondsSince(start);
+    if (refine && timeLimit > 0.0 && remaining <= 0.0)
+    {
+      // The voxel stage used up the time: its transform is the one reached so far, the refinement is not started.
+      m_TimeLimitReached = true;
+      m_StopConditionDescription += refineByPar ? "\npar: not started, the run-time limit was reached"
+                                                : "\ncpd: not started, the run-time limit was reached";
+    }
+    else if (refine)
+    {
+      const bool   timeLimitReached = m_TimeLimitReached;
+      const double limit = timeLimit > 0.0 ? remaining : 0.0;
+      transform = refineByPar ? this->RegisterMeshes(transform, limit) : this->RegisterPoints(transform, limit);
+      m_TimeLimitReached = m_TimeLimitReached || timeLimitReached;
+    }
+  }
+  m_RegistrationTime = detail::SecondsSince(start);
+  return transform;
+}
+
+template <typename TMesh, typename TImage>
+auto
+MeshShapeMatchingFilter<TMesh, TImage>::RefinePose(const DecoratedTransformType *        firstDeformation,
+                                                   std::chrono::steady_clock::time_point start)
+  -> const DecoratedTransformType *
+{
+  using ParametersType = detail::PoseCorrectionParameters;
+  const typename TransformType::ConstPointer pose = m_PoseRegistration->GetTransform();
+  // The corrections turn about the moved target's centroid; the shift step scales with its size.
+  typename MeshType::PointType centroid;
+  centroid.Fill(0.0);
+  const MeshType * moved = m_MatchingTarget;
+  for (auto it = moved->GetPoints()->Begin(); it != moved->GetPoints()->End(); ++it)
+  {
+    for (unsigned int d = 0; d < Dimension; ++d)
+    {
+      centroid[d] += it.Value()[d] / static_cast<double>(moved->GetNumberOfPoints());
+    }
+  }
+  const double          diagonal = std::sqrt(moved->GetBoundingBox()->GetDiagonalLength2());
+  std::array<double, 7> steps{};
+  for (unsigned int d = 0; d < Dimension; ++d)
+  {
+    steps[d] = m_PoseRefinementRotationStep * Math::pi / 180.0;
+    steps[Dimension + d] = m_PoseRefinementShiftStep * diagonal;
+  }
+  // A rigid pose keeps its scale.
+  steps[6] = m_InitialTransform == InitialTransformEnum::Rigid ? 0.0 : std::log1p(m_PoseRefinementScaleStep);
+
+  // The residual is a squared distance in the source frame: a correction that shrinks the moved target by e^s
+  // shrinks it by e^2s with no better fit. Divided by e^2s, the runs compare in the units of the pose stage's target.
+  const auto residualOfRun = [this](const ParametersType & correction) {
+    const auto & values = m_CPDRegistration->GetMetricValues();
+    return values.empty() ? NumericTraits<double>::max() : values.back() / std::exp(2.0 * correction[6]);
+  };
+  const auto elapsed = [start]() { return detail::SecondsSince(start); };
+  const auto timeLeft = [this, &elapsed]() { return m_MaximumRunTime > 0.0 ? m_MaximumRunTime - elapsed() : 0.0; };
+  const auto mayStart = [this, &elapsed]() { return m_MaximumRunTime <= 0.0 || elapsed() < m_MaximumRunTime / 3.0; };
+
+  ParametersType best{};
+  double         bestResidual = residualOfRun(best);
+  m_PoseRefinementResiduals.assign(1, bestResidual);
+  ParametersType last = best;
+  unsigned int   runs = 0;
+  bool           stepsLeft = true;
+  while (runs < m_PoseRefinementRuns && stepsLeft && mayStart())
+  {
+    ParametersType roundBest = best;
+    double         roundResidual = bestResidual;
+    for (unsigned int k = 0; k < 7 && runs < m_PoseRefinementRuns && mayStart(); ++k)
+    {
+      if (steps[k] <= 0.0)
+      {
+        continue;
+      }
+      for (const double sign : { 1.0, -1.0 })
+      {
+        if (runs >= m_PoseRefinementRuns || !mayStart())
+        {
+          break;
+        }
+        ParametersType candidate = best;
+        candidate[k] += sign * steps[k];
+        this->MoveTarget(detail::ComposePoseCorrection<TransformType>(pose, centroid, candidate));
+        m_TimeLimitReached = false;
+        this->Deform(timeLeft());
+        ++runs;
+        last = candidate;
+        const double residual = residualOfRun(candidate);
+        m_PoseRefinementResiduals.push_back(residual);
+        if (residual < roundResidual)
+        {
+          roundResidual = residual;
+          roundBest = candidate;
+        }
+      }
+    }
+    if (roundResidual < bestResidual)
+    {
+      best = roundBest;
+      bestResidual = roundResidual;
+    }
+    else
+    {
+      for (double & step : steps)
+      {
+        step *= 0.5;
+      }
+      // Below a tenth of a degree (and the other steps as much smaller), the runs no longer differ.
+      stepsLeft = steps[0] > 0.1 * Math::pi / 180.0;
+    }
+  }
+  if (runs == 0)
+  {
+    return firstDeformation;
+  }
+  // The internal filters end in the state of the best run: the last one, or a run again from the best pose.
+  if (last != best)
+  {
+    this->MoveTarget(best == ParametersType{}
+                       ? pose.GetPointer()
+                       : detail::ComposePoseCorrection<TransformType>(pose, centroid, best).GetPointer());
+    m_TimeLimitReached = false;
+    return this->Deform(timeLeft());
+  }
+  return m_CPDRegistration->GetTransformOutput();
 }
 
 template <typename TMesh, typename TImage>
@@ -201,7 +365,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::VoxelizeMeshes()
     try
     {
       voxelizer->SetGeometryFromMeshBounds(spacing, this->GetVoxelGridMargin());
-      voxelizer->Update();
+      voxelizer->UpdateLargestPossibleRegion();
     }
     catch (const ExceptionObject & error)
     {
@@ -219,7 +383,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::VoxelizeMeshes()
   m_OpenBoundaryMask->SetInput(m_BandMaskVoxelizer->GetOutput());
   m_OpenBoundaryMask->SetMesh(target);
   m_OpenBoundaryMask->SetRadius(bandWidth + 0.5 * m_VoxelSize);
-  m_OpenBoundaryMask->Update();
+  m_OpenBoundaryMask->UpdateLargestPossibleRegion();
   m_NumberOfMetricVoxels = m_OpenBoundaryMask->GetNumberOfMaskVoxels();
   m_NumberOfOpenBoundaryEdges = m_OpenBoundaryMask->GetNumberOfOpenBoundaryEdges();
   if (m_NumberOfMetricVoxels == 0)
@@ -245,7 +409,8 @@ MeshShapeMatchingFilter<TMesh, TImage>::UpdateRegistration(ProcessObject * regis
 
 template <typename TMesh, typename TImage>
 auto
-MeshShapeMatchingFilter<TMesh, TImage>::RegisterVoxels(MethodEnum method) -> const DecoratedTransformType *
+MeshShapeMatchingFilter<TMesh, TImage>::RegisterVoxels(MethodEnum method, double timeLimit)
+  -> const DecoratedTransformType *
 {
   const bool distances = m_Voxelization == VoxelizationEnum::SignedDistance;
   if (method == MethodEnum::GO)
@@ -264,7 +429,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::RegisterVoxels(MethodEnum method) -> con
     registration->SetRandomSeed(m_RandomSeed);
     registration->SetBendingEnergyWeight(m_BendingEnergyWeight);
     registration->SetFoldingPenaltyWeight(m_FoldingPenaltyWeight);
-    registration->SetMaximumRunTime(m_MaximumRunTime);
+    registration->SetMaximumRunTime(timeLimit);
     this->UpdateRegistration(registration);
     m_MetricValues = registration->GetMetricValues();
     m_MetricName = distances ? "MeanSquares" : "MattesMutualInformation";
@@ -294,7 +459,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::RegisterVoxels(MethodEnum method) -> con
   registration->SetRejectFoldingUpdates(true);
   registration->SetUseImagePyramid(m_MRFUseImagePyramid);
   registration->SetNumberOfSolverCycles(1);
-  registration->SetMaximumRunTime(m_MaximumRunTime);
+  registration->SetMaximumRunTime(timeLimit);
   this->UpdateRegistration(registration);
   m_MetricValues = registration->GetEnergyValues();
   m_MetricName = distances ? "MRF energy (SSD)" : "MRF energy (pointwise MI)";
@@ -413,53 +578,31 @@ MeshShapeMatchingFilter<TMesh, TImage>::GenerateData()
   // Pose: A maps target space to source space; the deformation stage matches the source to A(target).
   auto start = ClockType::now();
   m_MatchingTarget = nullptr;
+  m_PoseTransform = nullptr;
   m_PoseTime = 0.0;
+  m_PoseRefinementResiduals.clear();
+  m_PoseRefinementTime = 0.0;
   if (posed)
   {
     this->FindPose();
     m_PoseTime = detail::SecondsSince(start);
   }
 
-  // Voxelize (every method: the target image is also the grid on which T is scored).
   start = ClockType::now();
-  this->VoxelizeMeshes();
-  m_VoxelizationTime = detail::SecondsSince(start);
-
-  // Register: T maps target (fixed) space to source (moving) space.
-  start = ClockType::now();
-  const DecoratedTransformType * transform = nullptr;
-  if (m_Method == MethodEnum::Par)
+  const DecoratedTransformType * transform = this->Deform(m_MaximumRunTime);
+  if (posed && refineByCPD && m_PoseRefinementRuns > 0)
   {
-    transform = this->RegisterMeshes(nullptr, m_MaximumRunTime);
+    const auto refinementStart = ClockType::now();
+    transform = this->RefinePose(transform, start);
+    m_PoseRefinementTime = detail::SecondsSince(refinementStart);
   }
-  else
-  {
-    transform = this->RegisterVoxels(m_Method == MethodEnum::MRF || m_Method == MethodEnum::MRFPar ? MethodEnum::MRF
-                                                                                                   : MethodEnum::GO);
-    const double remaining = m_MaximumRunTime - detail::SecondsSince(start);
-    if (refine && m_MaximumRunTime > 0.0 && remaining <= 0.0)
-    {
-      // The voxel stage used up the time: its transform is the one reached so far, the refinement is not started.
-      m_TimeLimitReached = true;
-      m_StopConditionDescription += refineByPar ? "\npar: not started, the run-time limit was reached"
-                                                : "\ncpd: not started, the run-time limit was reached";
-    }
-    else if (refine)
-    {
-      const bool   timeLimitReached = m_TimeLimitReached;
-      const double limit = m_MaximumRunTime > 0.0 ? remaining : 0.0;
-      transform = refineByPar ? this->RegisterMeshes(transform, limit) : this->RegisterPoints(transform, limit);
-      m_TimeLimitReached = m_TimeLimitReached || timeLimitReached;
-    }
-  }
-  m_RegistrationTime = detail::SecondsSince(start);
   m_DeformationTransform = transform;
   if (posed)
   {
     // T = B o A: a CompositeTransform applies the transform added last first. It only reads its parts.
     auto composite = CompositeTransformType::New();
     composite->AddTransform(const_cast<TransformType *>(transform->Get()));
-    composite->AddTransform(const_cast<TransformType *>(m_PoseRegistration->GetTransform()));
+    composite->AddTransform(const_cast<TransformType *>(m_PoseTransform.GetPointer()));
     m_ComposedTransform->Set(composite);
     transform = m_ComposedTransform;
   }
@@ -499,6 +642,12 @@ MeshShapeMatchingFilter<TMesh, TImage>::PrintSelf(std::ostream & os, Indent inde
   os << indent << "MaximumRunTime: " << m_MaximumRunTime << std::endl;
   os << indent << "RandomSeed: " << m_RandomSeed << std::endl;
   os << indent << "InverseTolerance: " << m_InverseTolerance << std::endl;
+  os << indent << "PoseRefinementRuns: " << m_PoseRefinementRuns << std::endl;
+  os << indent << "PoseRefinementRotationStep: " << m_PoseRefinementRotationStep << std::endl;
+  os << indent << "PoseRefinementShiftStep: " << m_PoseRefinementShiftStep << std::endl;
+  os << indent << "PoseRefinementScaleStep: " << m_PoseRefinementScaleStep << std::endl;
+  os << indent << "NumberOfPoseRefinementResiduals: " << m_PoseRefinementResiduals.size() << std::endl;
+  os << indent << "PoseRefinementTime: " << m_PoseRefinementTime << std::endl;
   os << indent << "MetricName: " << m_MetricName << std::endl;
   os << indent << "NumberOfMetricValues: " << m_MetricValues.size() << std::endl;
   os << indent << "TimeLimitReached: " << m_TimeLimitReached << std::endl;

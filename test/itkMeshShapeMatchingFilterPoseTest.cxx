@@ -18,14 +18,19 @@
 
 // MeshShapeMatchingFilter with a pose stage: a deformed part of a lumpy blob, posed by a known similarity far from
 // the source (not overlapping), is matched as well as the same part in place (the aligned case), the output
-// transform is T = B o A and maps the posed target onto the source; without a pose stage the filter refuses it.
+// transform is T = B o A and maps the posed target onto the source; without a pose stage the filter refuses it. With
+// GOCPD, the pose refinement runs the deformation from corrected poses and keeps the best run's state.
 
 #include "itkMeshShapeMatchingFilter.h"
+#include "itkMatrixDeterminant.h"
 #include "itkShapeMatchingTestMeshes.h"
 #include "itkSimilarity3DTransform.h"
 #include "itkTestingMacros.h"
 
+#include <algorithm>
+#include <cmath>
 #include <iostream>
+#include <vector>
 
 namespace
 {
@@ -121,6 +126,79 @@ itkMeshShapeMatchingFilterPoseTest(int, char *[])
       aligned->GetMatchingTargetMesh() != target.GetPointer())
   {
     std::cerr << "the deformation stage's target is not the target moved by the pose" << std::endl;
+    result = EXIT_FAILURE;
+  }
+
+  // The pose refinement (GOCPD): four more deformation runs from corrected poses; the filter ends in the state of the
+  // run with the lowest final soft-correspondence residual, and T = B o A' with A' the corrected pose.
+  auto refined = NewFilter(source, posedTarget, InitialEnum::Similarity);
+  refined->SetMethod(itk::FFDShapeMatchingEnums::Method::GOCPD);
+  ITK_TEST_SET_GET_VALUE(42u, refined->GetPoseRefinementRuns());
+  refined->SetPoseRefinementRuns(4);
+  ITK_TEST_SET_GET_VALUE(4u, refined->GetPoseRefinementRuns());
+  refined->SetPoseRefinementRotationStep(500.0);
+  ITK_TEST_SET_GET_VALUE(90.0, refined->GetPoseRefinementRotationStep());
+  refined->SetPoseRefinementRotationStep(3.0);
+  refined->SetPoseRefinementShiftStep(0.01);
+  ITK_TEST_SET_GET_VALUE(0.01, refined->GetPoseRefinementShiftStep());
+  refined->SetPoseRefinementScaleStep(0.02);
+  ITK_TEST_SET_GET_VALUE(0.02, refined->GetPoseRefinementScaleStep());
+  ITK_TRY_EXPECT_NO_EXCEPTION(refined->Update());
+  const std::vector<double> residuals = refined->GetPoseRefinementResiduals();
+  const auto                best = std::min_element(residuals.begin(), residuals.end());
+  const double              refinedError = MeanTrueError(refined->GetOutput(), posedTarget, truth);
+  const auto * refinedComposite = dynamic_cast<const FilterType::CompositeTransformType *>(refined->GetTransform());
+  std::cout << "refined: " << residuals.size() << " runs, residual " << residuals.front() << " -> " << *best << " (run "
+            << best - residuals.begin() << "), true error " << refinedError << " in "
+            << refined->GetPoseRefinementTime() << " s" << std::endl;
+  if (residuals.size() != 5 || !(refined->GetPoseRefinementTime() > 0.0))
+  {
+    std::cerr << "the refinement did not make 1 + 4 runs" << std::endl;
+    result = EXIT_FAILURE;
+  }
+  // The residuals compare in the pose stage's units: the CPD stage's own is divided by the square of the scaling
+  // the correction added.
+  const auto scaleOf = [](const FilterType::TransformType * transform) {
+    const auto * linear = dynamic_cast<const itk::MatrixOffsetTransformBase<double, 3, 3> *>(transform);
+    return std::cbrt(std::abs(itk::detail::MatrixDeterminant(linear->GetMatrix())));
+  };
+  const double addedScale =
+    scaleOf(refined->GetPoseTransform()) / scaleOf(refined->GetModifiablePoseRegistration()->GetTransform());
+  const double finalResidual =
+    refined->GetModifiableCPDRegistration()->GetMetricValues().back() / (addedScale * addedScale);
+  if (!(std::abs(finalResidual - *best) <= 1e-9 * *best))
+  {
+    std::cerr << "the filter does not end in the state of the best run" << std::endl;
+    result = EXIT_FAILURE;
+  }
+  const bool correctedPose = refined->GetPoseTransform() != refined->GetModifiablePoseRegistration()->GetTransform();
+  if (refinedComposite == nullptr || refinedComposite->GetNthTransformConstPointer(1) != refined->GetPoseTransform() ||
+      correctedPose != (best != residuals.begin()))
+  {
+    std::cerr << "the output transform is not B o A' with the pose of the best run" << std::endl;
+    result = EXIT_FAILURE;
+  }
+  if (!(refinedError < 1.25 * 1.25 * alignedError + 0.05))
+  {
+    std::cerr << "the refined case is not matched as well as the aligned one" << std::endl;
+    result = EXIT_FAILURE;
+  }
+  // Under a time limit, no refinement run starts after a third of it.
+  refined->SetMaximumRunTime(1e-6);
+  ITK_TRY_EXPECT_NO_EXCEPTION(refined->Update());
+  if (refined->GetPoseRefinementResiduals().size() != 1 ||
+      refined->GetPoseTransform() != refined->GetModifiablePoseRegistration()->GetTransform())
+  {
+    std::cerr << "the refinement ran past its time limit" << std::endl;
+    result = EXIT_FAILURE;
+  }
+  // Without a pose stage, or with another method, there is no refinement.
+  aligned->SetMethod(itk::FFDShapeMatchingEnums::Method::GOCPD);
+  ITK_TRY_EXPECT_NO_EXCEPTION(aligned->Update());
+  if (!aligned->GetPoseRefinementResiduals().empty() || aligned->GetPoseTransform() != nullptr ||
+      !posed->GetPoseRefinementResiduals().empty())
+  {
+    std::cerr << "a refinement ran without a pose stage or with GO" << std::endl;
     result = EXIT_FAILURE;
   }
   return result;
