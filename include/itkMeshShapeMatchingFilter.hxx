@@ -21,6 +21,7 @@
 #include "itkMeshShapeMatchingFilter.h"
 #include "itkProgressAccumulator.h"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -260,7 +261,10 @@ MeshShapeMatchingFilter<TMesh, TImage>::RefinePose(const DecoratedTransformType 
     return values.empty() ? NumericTraits<double>::max() : values.back() / std::exp(2.0 * correction[6]);
   };
   const auto elapsed = [start]() { return detail::SecondsSince(start); };
-  const auto timeLeft = [this, &elapsed]() { return m_MaximumRunTime > 0.0 ? m_MaximumRunTime - elapsed() : 0.0; };
+  // With a limit, a run gets the time left, and at least a millisecond (0 would mean no limit).
+  const auto timeLeft = [this, &elapsed]() {
+    return m_MaximumRunTime > 0.0 ? std::max(1e-3, m_MaximumRunTime - elapsed()) : 0.0;
+  };
   const auto mayStart = [this, &elapsed]() { return m_MaximumRunTime <= 0.0 || elapsed() < m_MaximumRunTime / 3.0; };
 
   ParametersType best{};
@@ -287,12 +291,20 @@ MeshShapeMatchingFilter<TMesh, TImage>::RefinePose(const DecoratedTransformType 
         }
         ParametersType candidate = best;
         candidate[k] += sign * steps[k];
-        this->MoveTarget(detail::ComposePoseCorrection<TransformType>(pose, centroid, candidate));
-        m_TimeLimitReached = false;
-        this->Deform(timeLeft());
         ++runs;
         last = candidate;
-        const double residual = residualOfRun(candidate);
+        double residual = NumericTraits<double>::max();
+        try
+        {
+          this->MoveTarget(detail::ComposePoseCorrection<TransformType>(pose, centroid, candidate));
+          m_TimeLimitReached = false;
+          this->Deform(timeLeft());
+          residual = residualOfRun(candidate);
+        }
+        catch (const ExceptionObject &)
+        {
+          // A corrected start the deformation stage cannot run from (e.g. moved off the source) is not kept.
+        }
         m_PoseRefinementResiduals.push_back(residual);
         if (residual < roundResidual)
         {

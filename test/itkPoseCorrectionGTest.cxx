@@ -85,11 +85,15 @@ ExpectComposition(const TransformType * pose, const itk::detail::PoseCorrectionP
   ASSERT_NE(composed.GetPointer(), pose);
   EXPECT_STREQ(composed->GetNameOfClass(), pose->GetNameOfClass());
   const auto * linear = dynamic_cast<const itk::MatrixOffsetTransformBase<double, 3, 3> *>(pose);
-  const auto * composedLinear = dynamic_cast<const itk::MatrixOffsetTransformBase<double, 3, 3> *>(composed.GetPointer());
+  const auto * composedLinear =
+    dynamic_cast<const itk::MatrixOffsetTransformBase<double, 3, 3> *>(composed.GetPointer());
   ASSERT_NE(composedLinear, nullptr);
   EXPECT_EQ(composedLinear->GetCenter(), linear->GetCenter());
-  for (const PointType & p :
-       { MakePoint(0, 0, 0), MakePoint(10, -4, 2), MakePoint(-25, 13, 40), MakePoint(3, -2, 7.5), MakePoint(1e3, 5, -7) })
+  for (const PointType & p : { MakePoint(0, 0, 0),
+                               MakePoint(10, -4, 2),
+                               MakePoint(-25, 13, 40),
+                               MakePoint(3, -2, 7.5),
+                               MakePoint(1e3, 5, -7) })
   {
     const PointType expected = Corrected(pose->TransformPoint(p), center, correction);
     const PointType actual = composed->TransformPoint(p);
@@ -146,9 +150,9 @@ TEST(PoseCorrection, SimilarityAndAffineTakeEveryCorrection)
   ExpectComposition(similarity, { 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, std::log(1.02) });
   ExpectComposition(similarity, { -0.03, 0.02, 0.07, 1.0, -2.0, 0.5, std::log(0.97) });
 
-  auto                         affine = itk::AffineTransform<double, 3>::New();
-  itk::Matrix<double, 3, 3>    matrix;
-  const double                 values[9] = { 1.1, 0.2, -0.1, 0.05, 0.9, 0.3, -0.2, 0.1, 1.3 };
+  auto                      affine = itk::AffineTransform<double, 3>::New();
+  itk::Matrix<double, 3, 3> matrix;
+  const double              values[9] = { 1.1, 0.2, -0.1, 0.05, 0.9, 0.3, -0.2, 0.1, 1.3 };
   for (unsigned int i = 0; i < 9; ++i)
   {
     matrix(i / 3, i % 3) = values[i];
