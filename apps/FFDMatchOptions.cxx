@@ -81,7 +81,7 @@ Usage()
            "                  composite of the deformation and the pose\n"
            "  --pose-refinement  with a pose stage and go+cpd: at most N more deformation runs from small\n"
            "                  corrections of the pose (rotations, shifts, scalings), keeping the run whose\n"
-           "                  soft correspondences fit best (default 42; 0: the pose stage's pose only)\n"
+           "                  soft correspondences fit best (default 84; 0: the pose stage's pose only)\n"
            "  --transform-out write T (target space -> source space) as an ITK transform file\n"
            "  --report        write a JSON report (stage times, metric per iteration, distances, ...)\n"
            "  --snapshot      write a before/after picture (PNG; VTK off-screen rendering needs an X display:\n"

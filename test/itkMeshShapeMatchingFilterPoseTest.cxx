@@ -133,7 +133,7 @@ itkMeshShapeMatchingFilterPoseTest(int, char *[])
   // run with the lowest final soft-correspondence residual, and T = B o A' with A' the corrected pose.
   auto refined = NewFilter(source, posedTarget, InitialEnum::Similarity);
   refined->SetMethod(itk::FFDShapeMatchingEnums::Method::GOCPD);
-  ITK_TEST_SET_GET_VALUE(42u, refined->GetPoseRefinementRuns());
+  ITK_TEST_SET_GET_VALUE(84u, refined->GetPoseRefinementRuns());
   refined->SetPoseRefinementRuns(4);
   ITK_TEST_SET_GET_VALUE(4u, refined->GetPoseRefinementRuns());
   refined->SetPoseRefinementRotationStep(500.0);
