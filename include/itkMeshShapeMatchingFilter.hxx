@@ -277,7 +277,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::RefinePose(const DecoratedTransformType 
   {
     ParametersType roundBest = best;
     double         roundResidual = bestResidual;
-    for (unsigned int k = 0; k < 7 && runs < m_PoseRefinementRuns && mayStart(); ++k)
+    for (unsigned int k = 0; k < 7; ++k)
     {
       if (steps[k] <= 0.0)
       {
