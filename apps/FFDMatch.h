@@ -73,6 +73,7 @@ struct Options
   std::optional<double>       foldingWeight;
   std::optional<double>       mrfWeight;
   std::optional<bool>         mrfPyramid;
+  std::optional<std::string>  mrfSolver;                  // tree, expansion or icm
   std::optional<double>       timeLimit;                  // seconds of registration
   std::string                 initialTransform{ "none" }; // the pose stage: none, rigid, similarity or affine
   std::optional<unsigned int> poseRefinementRuns;         // deformation runs added by the pose refinement

@@ -47,6 +47,7 @@ Usage()
            "                 [--levels L] [--iterations N] [--sampling P]\n"
            "                 [--time-limit SECONDS] [--memory-limit MB]\n"
            "                 [--bending-weight W] [--folding-weight W] [--mrf-weight W] [--mrf-pyramid on|off]\n"
+           "                 [--mrf-solver tree|expansion|icm]\n"
            "       ffd-match --demo [--output-dir DIR] [same tuning options]\n"
            "  --source        mesh moved onto the target (OFF, OBJ, VTK, VTP, STL or PLY)\n"
            "  --target        mesh (or open surface patch) matched to\n"
@@ -64,6 +65,8 @@ Usage()
         << ")\n"
            "  --mrf-pyramid   off (default): every mrf level uses the full-resolution images; on: coarse levels\n"
            "                  use smoothed, shrunk images (faster, less accurate on thin distance bands)\n"
+           "  --mrf-solver    tree (default): exact minimum on a minimum spanning tree of the control grid, then\n"
+           "                  ICM sweeps; expansion: alpha-expansion by max-flow (slower); icm: greedy sweeps\n"
            "  --output        deformed source: the source's vertex order and cells, moved onto the target\n"
            "  --grid          control points per axis of the final B-spline grid, >= 4 (default "
         << defaults.grid
@@ -262,6 +265,15 @@ ParseArguments(int argc, char * argv[])
         throw Error("--mrf-pyramid must be on or off, not '" + setting + "'");
       }
       options.mrfPyramid = setting == "on";
+    }
+    else if (argument == "--mrf-solver")
+    {
+      const std::string setting = value();
+      if (setting != "tree" && setting != "expansion" && setting != "icm")
+      {
+        throw Error("--mrf-solver must be tree, expansion or icm, not '" + setting + "'");
+      }
+      options.mrfSolver = setting;
     }
     else if (argument == "--time-limit")
     {

@@ -261,6 +261,11 @@ NewMatchingFilter(const Options & options)
   given(options.foldingWeight, [&](double v) { filter->SetFoldingPenaltyWeight(v); });
   given(options.mrfWeight, [&](double v) { filter->SetMRFRegularizationWeight(v); });
   given(options.mrfPyramid, [&](bool v) { filter->SetMRFUseImagePyramid(v); });
+  given(options.mrfSolver, [&](const std::string & v) {
+    using SolverEnum = itk::MRFLabelingSolverEnums::Algorithm;
+    filter->SetMRFSolver(v == "expansion" ? SolverEnum::AlphaExpansion
+                                          : (v == "icm" ? SolverEnum::ICM : SolverEnum::SpanningTree));
+  });
   given(options.timeLimit, [&](double v) { filter->SetMaximumRunTime(v); });
   given(options.seed, [&](int v) { filter->SetRandomSeed(v); });
   given(options.poseRefinementRuns, [&](unsigned int v) { filter->SetPoseRefinementRuns(v); });

@@ -1390,9 +1390,9 @@ def tables_only(options):
         for key, value in data.get("versions", {}).items():
             if value is None:
                 continue  # the program was not there in that run
-            known = versions.setdefault(key, value)
-            if value not in known.split(", "):
-                versions[key] = known + ", " + value
+            known = versions.setdefault(key, value).split(", ")
+            known.extend(v for v in value.split(", ") if v not in known)
+            versions[key] = ", ".join(known)
     records = list(records.values())
     options.seed_list = ", ".join(str(seed) for seed in sorted(set(r["seed"] for r in records)))
     results_dir = os.path.abspath(options.results_dir)

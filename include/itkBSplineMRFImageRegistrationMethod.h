@@ -47,11 +47,18 @@ namespace itk
  * determinant stays above FoldingThreshold: the energy of each level never increases (GetEnergyValues()).
  *
  * \par Solver
- * Alpha-expansion on Boost Graph's Boykov-Kolmogorov max-flow (MRFLabelingSolver): it is a proven,
- * fast move-making method for multi-label energies, each move is optimal over a very large neighbourhood of
- * labelings (much stronger than ICM), and it handles any pairwise term; the expansion terms that are not
- * submodular (the regularization depends on u as well as on the labels) are truncated and a move is only
- * accepted when the true energy decreases. ICM can be chosen for comparison (SetSolver()).
+ * MRFLabelingSolver, chosen with SetSolver():
+ * - AlphaExpansion (default) on Boost Graph's Boykov-Kolmogorov max-flow: a proven move-making method for
+ *   multi-label energies, each move optimal over a very large neighbourhood of labelings (much stronger than
+ *   ICM), for any pairwise term; the expansion terms that are not submodular (the regularization depends on u as
+ *   well as on the labels) are truncated and a move is only accepted when the true energy decreases.
+ * - SpanningTree: the exact minimum of the energy restricted to a minimum spanning tree of the control grid (the
+ *   approach of deeds), then NumberOfSolverCycles - 1 ICM sweeps over the whole grid. With 3 cycles it is as
+ *   accurate as AlphaExpansion on the benchmark's shape-matching cases and about three times faster in total
+ *   (benchmark/RESULTS.md); MeshShapeMatchingFilter and ffd-match use it.
+ * - ICM, for comparison.
+ * With the Quadratic pairwise function the solver evaluates the pairwise terms inline
+ * (MRFLabelingSolver::SetQuadraticPairwise()); the others go through a callback.
  *
  * \par Multi-resolution
  * NumberOfLevels levels; level l (from 0) uses a control grid about 2^(L-1-l) times coarser

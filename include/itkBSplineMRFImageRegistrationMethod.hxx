@@ -688,10 +688,30 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::RunLevel(unsigned 
     }
     solver->SetNumberOfLabels(static_cast<MRFLabelingSolver::LabelType>(labels.size()));
     solver->SetUnaryCosts(std::move(unary));
-    solver->SetPairwiseFunction([this, &edgeDifferences, &labels, inverseSpacing](
-                                  SizeValueType edge, MRFLabelingSolver::LabelType a, MRFLabelingSolver::LabelType b) {
-      return this->Pairwise(edgeDifferences[edge] + labels[a] - labels[b], inverseSpacing);
-    });
+    if (m_PairwiseFunction == PairwiseFunctionEnum::Quadratic)
+    {
+      // The solver's inline model: lambda |u_p + d_a - u_q - d_b|^2 / h^2.
+      std::vector<MRFLabelingSolver::VectorType> labelVectors(labels.size());
+      for (size_t l = 0; l < labels.size(); ++l)
+      {
+        labelVectors[l] = { { labels[l][0], labels[l][1], labels[l][2] } };
+      }
+      std::vector<MRFLabelingSolver::VectorType> offsets(edges.size());
+      for (size_t k = 0; k < edges.size(); ++k)
+      {
+        offsets[k] = { { edgeDifferences[k][0], edgeDifferences[k][1], edgeDifferences[k][2] } };
+      }
+      solver->SetQuadraticPairwise(
+        std::move(labelVectors), std::move(offsets), m_RegularizationWeight * inverseSpacing * inverseSpacing);
+    }
+    else
+    {
+      solver->SetPairwiseFunction([this, &edgeDifferences, &labels, inverseSpacing](SizeValueType                edge,
+                                                                                    MRFLabelingSolver::LabelType a,
+                                                                                    MRFLabelingSolver::LabelType b) {
+        return this->Pairwise(edgeDifferences[edge] + labels[a] - labels[b], inverseSpacing);
+      });
+    }
     // The solver gets the time left (at least a trace, so that it stops at once when none is).
     solver->SetMaximumRunTime(
       this->GetMaximumRunTime() > 0.0 ? std::max(1e-9, this->GetMaximumRunTime() - this->GetElapsedRunTime()) : 0.0);

@@ -470,13 +470,19 @@ MeshShapeMatchingFilter<TMesh, TImage>::RegisterVoxels(MethodEnum method, double
   registration->SetRegularizationWeight(m_MRFRegularizationWeight);
   registration->SetRejectFoldingUpdates(true);
   registration->SetUseImagePyramid(m_MRFUseImagePyramid);
-  registration->SetNumberOfSolverCycles(1);
+  registration->SetSolver(m_MRFSolver);
+  // SpanningTree: the tree's exact minimum and two ICM sweeps; AlphaExpansion: one cycle; ICM: up to ten sweeps.
+  registration->SetNumberOfSolverCycles(
+    m_MRFSolver == MRFSolverEnum::SpanningTree ? 3 : (m_MRFSolver == MRFSolverEnum::ICM ? 10 : 1));
   registration->SetMaximumRunTime(timeLimit);
   this->UpdateRegistration(registration);
   m_MetricValues = registration->GetEnergyValues();
   m_MetricName = distances ? "MRF energy (SSD)" : "MRF energy (pointwise MI)";
   std::ostringstream stop;
-  stop << "mrf: " << registration->GetEnergyValues().size() << " iterations, "
+  stop << "mrf ("
+       << (m_MRFSolver == MRFSolverEnum::SpanningTree ? "spanning tree"
+                                                      : (m_MRFSolver == MRFSolverEnum::ICM ? "ICM" : "alpha-expansion"))
+       << "): " << registration->GetEnergyValues().size() << " iterations, "
        << registration->GetNumberOfRejectedUpdates() << " updates rejected";
   m_StopConditionDescription = stop.str();
   m_TimeLimitReached = registration->GetTimeLimitReached();
@@ -651,6 +657,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::PrintSelf(std::ostream & os, Indent inde
   os << indent << "FoldingPenaltyWeight: " << m_FoldingPenaltyWeight << std::endl;
   os << indent << "MRFRegularizationWeight: " << m_MRFRegularizationWeight << std::endl;
   os << indent << "MRFUseImagePyramid: " << m_MRFUseImagePyramid << std::endl;
+  os << indent << "MRFSolver: " << m_MRFSolver << std::endl;
   os << indent << "MaximumRunTime: " << m_MaximumRunTime << std::endl;
   os << indent << "RandomSeed: " << m_RandomSeed << std::endl;
   os << indent << "InverseTolerance: " << m_InverseTolerance << std::endl;

@@ -17,14 +17,18 @@
  *=========================================================================*/
 #include "itkMRFLabelingSolver.h"
 
+#include <boost/graph/adjacency_list.hpp>
 #include <boost/graph/boykov_kolmogorov_max_flow.hpp>
 #include <boost/graph/compressed_sparse_row_graph.hpp>
+#include <boost/graph/kruskal_min_spanning_tree.hpp>
 #include <boost/property_map/property_map.hpp>
 #include <boost/range/iterator_range.hpp>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <iterator>
 #include <limits>
 
 namespace itk
@@ -178,6 +182,8 @@ operator<<(std::ostream & out, const MRFLabelingSolverEnums::Algorithm value)
         return "itk::MRFLabelingSolverEnums::Algorithm::ICM";
       case MRFLabelingSolverEnums::Algorithm::Exhaustive:
         return "itk::MRFLabelingSolverEnums::Algorithm::Exhaustive";
+      case MRFLabelingSolverEnums::Algorithm::SpanningTree:
+        return "itk::MRFLabelingSolverEnums::Algorithm::SpanningTree";
     }
     return "INVALID VALUE FOR itk::MRFLabelingSolverEnums::Algorithm";
   }();
@@ -243,6 +249,25 @@ void
 MRFLabelingSolver::SetPairwiseFunction(PairwiseFunctionType function)
 {
   m_PairwiseFunction = std::move(function);
+  m_QuadraticWeight = -1.0;
+  m_LabelVectors.clear();
+  m_EdgeOffsets.clear();
+  this->Modified();
+}
+
+void
+MRFLabelingSolver::SetQuadraticPairwise(std::vector<VectorType> labelVectors,
+                                        std::vector<VectorType> edgeOffsets,
+                                        double                  weight)
+{
+  if (!(weight >= 0.0) || !std::isfinite(weight))
+  {
+    itkExceptionMacro(<< "The quadratic pairwise weight must be finite and >= 0, is " << weight);
+  }
+  m_LabelVectors = std::move(labelVectors);
+  m_EdgeOffsets = std::move(edgeOffsets);
+  m_QuadraticWeight = weight;
+  m_PairwiseFunction = nullptr;
   this->Modified();
 }
 
@@ -257,7 +282,16 @@ MRFLabelingSolver::CheckInput(const LabelingType & labeling, bool checkLabeling)
   {
     itkExceptionMacro(<< "The unary costs are not set");
   }
-  if (!m_Edges.empty() && !m_PairwiseFunction)
+  if (m_QuadraticWeight >= 0.0)
+  {
+    if (m_LabelVectors.size() != m_NumberOfLabels || m_EdgeOffsets.size() != m_Edges.size())
+    {
+      itkExceptionMacro(<< "The quadratic pairwise model has " << m_LabelVectors.size() << " label vectors and "
+                        << m_EdgeOffsets.size() << " edge offsets for " << m_NumberOfLabels << " labels and "
+                        << m_Edges.size() << " edges");
+    }
+  }
+  else if (!m_Edges.empty() && !m_PairwiseFunction)
   {
     itkExceptionMacro(<< "The graph has edges but no pairwise function");
   }
@@ -289,7 +323,7 @@ MRFLabelingSolver::ComputeEnergy(const LabelingType & labeling) const
   }
   for (SizeValueType k = 0; k < m_Edges.size(); ++k)
   {
-    energy += m_PairwiseFunction(k, labeling[m_Edges[k].first], labeling[m_Edges[k].second]);
+    energy += this->Pairwise(k, labeling[m_Edges[k].first], labeling[m_Edges[k].second]);
   }
   return energy;
 }
@@ -323,6 +357,10 @@ MRFLabelingSolver::Solve(LabelingType & labeling)
   {
     return this->SolveICM(labeling);
   }
+  if (m_Algorithm == AlgorithmEnum::SpanningTree)
+  {
+    return this->SolveSpanningTree(labeling);
+  }
   return this->SolveAlphaExpansion(labeling);
 }
 
@@ -340,7 +378,7 @@ MRFLabelingSolver::SolveAlphaExpansion(LabelingType & labeling)
   std::vector<double> edgeCost(m_Edges.size());
   for (SizeValueType k = 0; k < m_Edges.size(); ++k)
   {
-    edgeCost[k] = m_PairwiseFunction(k, labeling[m_Edges[k].first], labeling[m_Edges[k].second]);
+    edgeCost[k] = this->Pairwise(k, labeling[m_Edges[k].first], labeling[m_Edges[k].second]);
   }
   std::vector<double>        keepCost(m_NumberOfNodes);
   std::vector<double>        switchCost(m_NumberOfNodes);
@@ -373,10 +411,10 @@ MRFLabelingSolver::SolveAlphaExpansion(LabelingType & labeling)
         }
         // y = 0 keeps the label, y = 1 switches to alpha: A = E(0,0), B = E(0,1), C = E(1,0), D = E(1,1).
         const double a = edgeCost[k];
-        const double d = m_PairwiseFunction(k, alpha, alpha);
-        double b = labeling[q] == alpha ? a : (labeling[p] == alpha ? d : m_PairwiseFunction(k, labeling[p], alpha));
-        double c = labeling[p] == alpha ? a : (labeling[q] == alpha ? d : m_PairwiseFunction(k, alpha, labeling[q]));
-        double coupling = b + c - a - d;
+        const double d = this->Pairwise(k, alpha, alpha);
+        double       b = labeling[q] == alpha ? a : (labeling[p] == alpha ? d : this->Pairwise(k, labeling[p], alpha));
+        double       c = labeling[p] == alpha ? a : (labeling[q] == alpha ? d : this->Pairwise(k, alpha, labeling[q]));
+        double       coupling = b + c - a - d;
         if (coupling < 0.0)
         {
           // Not submodular: raise the mixed terms (truncation); the true energy decides acceptance below.
@@ -434,7 +472,7 @@ MRFLabelingSolver::SolveAlphaExpansion(LabelingType & labeling)
             continue;
           }
           edgeStamp[k] = stamp;
-          const double cost = m_PairwiseFunction(k, labeling[m_Edges[k].first], labeling[m_Edges[k].second]);
+          const double cost = this->Pairwise(k, labeling[m_Edges[k].first], labeling[m_Edges[k].second]);
           delta += cost - edgeCost[k];
           touchedEdges.push_back(k);
           touchedCosts.push_back(cost);
@@ -471,13 +509,20 @@ MRFLabelingSolver::SolveAlphaExpansion(LabelingType & labeling)
 double
 MRFLabelingSolver::SolveICM(LabelingType & labeling)
 {
+  this->SweepICM(labeling, m_MaximumNumberOfCycles);
+  return this->ComputeEnergy(labeling);
+}
+
+void
+MRFLabelingSolver::SweepICM(LabelingType & labeling, unsigned int maximumNumberOfSweeps)
+{
   m_NodeEdges.assign(m_NumberOfNodes, {});
   for (SizeValueType k = 0; k < m_Edges.size(); ++k)
   {
     m_NodeEdges[m_Edges[k].first].push_back(k);
     m_NodeEdges[m_Edges[k].second].push_back(k);
   }
-  for (unsigned int sweep = 0; sweep < m_MaximumNumberOfCycles; ++sweep)
+  for (unsigned int sweep = 0; sweep < maximumNumberOfSweeps; ++sweep)
   {
     ++m_NumberOfCyclesPerformed;
     bool changed = false;
@@ -488,8 +533,8 @@ MRFLabelingSolver::SolveICM(LabelingType & labeling)
         for (const SizeValueType k : m_NodeEdges[p])
         {
           const EdgeType & edge = m_Edges[k];
-          value += edge.first == p ? m_PairwiseFunction(k, label, labeling[edge.second])
-                                   : m_PairwiseFunction(k, labeling[edge.first], label);
+          value += edge.first == p ? this->Pairwise(k, label, labeling[edge.second])
+                                   : this->Pairwise(k, labeling[edge.first], label);
         }
         return value;
       };
@@ -516,7 +561,204 @@ MRFLabelingSolver::SolveICM(LabelingType & labeling)
     }
   }
   m_NodeEdges.clear();
-  return this->ComputeEnergy(labeling);
+}
+
+void
+MRFLabelingSolver::ComputeSpanningTree()
+{
+  // Kruskal's minimum spanning forest (Boost Graph) over the edges weighted by how much their two nodes' unary
+  // costs differ: the tree keeps the couplings of nodes whose data agree.
+  using EdgeProperties =
+    boost::property<boost::edge_weight_t, double, boost::property<boost::edge_index_t, SizeValueType>>;
+  using GraphType =
+    boost::adjacency_list<boost::vecS, boost::vecS, boost::undirectedS, boost::no_property, EdgeProperties>;
+  GraphType graph(m_NumberOfNodes);
+  for (SizeValueType k = 0; k < m_Edges.size(); ++k)
+  {
+    const double * first = &m_UnaryCosts[m_Edges[k].first * m_NumberOfLabels];
+    const double * second = &m_UnaryCosts[m_Edges[k].second * m_NumberOfLabels];
+    double         difference = 0.0;
+    for (LabelType l = 0; l < m_NumberOfLabels; ++l)
+    {
+      difference += std::abs(first[l] - second[l]);
+    }
+    boost::add_edge(m_Edges[k].first, m_Edges[k].second, EdgeProperties(difference, k), graph);
+  }
+  std::vector<boost::graph_traits<GraphType>::edge_descriptor> tree;
+  boost::kruskal_minimum_spanning_tree(graph, std::back_inserter(tree));
+  m_SpanningTreeEdges.clear();
+  for (const auto & treeEdge : tree)
+  {
+    m_SpanningTreeEdges.push_back(boost::get(boost::edge_index, graph, treeEdge));
+  }
+  std::sort(m_SpanningTreeEdges.begin(), m_SpanningTreeEdges.end());
+}
+
+double
+MRFLabelingSolver::SolveSpanningTree(LabelingType & labeling)
+{
+  const LabelingType start = labeling;
+  const double       startEnergy = this->ComputeEnergy(labeling);
+  this->ComputeSpanningTree();
+
+  // Root each tree of the forest at its first node; order the nodes breadth first.
+  std::vector<std::vector<SizeValueType>> treeEdgesOf(m_NumberOfNodes);
+  for (const SizeValueType k : m_SpanningTreeEdges)
+  {
+    treeEdgesOf[m_Edges[k].first].push_back(k);
+    treeEdgesOf[m_Edges[k].second].push_back(k);
+  }
+  constexpr SizeValueType    none = std::numeric_limits<SizeValueType>::max();
+  std::vector<SizeValueType> parentEdge(m_NumberOfNodes, none);
+  std::vector<std::uint8_t>  visited(m_NumberOfNodes, 0);
+  std::vector<SizeValueType> order;
+  order.reserve(m_NumberOfNodes);
+  for (SizeValueType root = 0; root < m_NumberOfNodes; ++root)
+  {
+    if (visited[root])
+    {
+      continue;
+    }
+    visited[root] = 1;
+    size_t head = order.size();
+    order.push_back(root);
+    for (; head < order.size(); ++head)
+    {
+      const SizeValueType p = order[head];
+      for (const SizeValueType k : treeEdgesOf[p])
+      {
+        const SizeValueType q = m_Edges[k].first == p ? m_Edges[k].second : m_Edges[k].first;
+        if (!visited[q])
+        {
+          visited[q] = 1;
+          parentEdge[q] = k;
+          order.push_back(q);
+        }
+      }
+    }
+  }
+
+  // Upward pass (min-sum): belief(c) = unary(c) + the messages of c's children; the message to the parent is
+  // min over c's label of belief(c) + pairwise, with the minimizing label kept for the downward pass.
+  const LabelType     L = m_NumberOfLabels;
+  std::vector<double> belief(m_UnaryCosts);
+  std::vector<double> shifted(L);
+  if (m_QuadraticWeight >= 0.0)
+  {
+    m_LabelDistances.resize(static_cast<size_t>(L) * L);
+    for (LabelType a = 0; a < L; ++a)
+    {
+      for (LabelType b = 0; b < L; ++b)
+      {
+        double squared = 0.0;
+        for (unsigned int d = 0; d < 3; ++d)
+        {
+          const double difference = m_LabelVectors[a][d] - m_LabelVectors[b][d];
+          squared += difference * difference;
+        }
+        m_LabelDistances[a * L + b] = squared;
+      }
+    }
+  }
+  std::vector<LabelType> bestChildLabel(m_NumberOfNodes * L, 0);
+  for (size_t i = order.size(); i-- > 0;)
+  {
+    if (this->IsPastTimeLimit())
+    {
+      labeling = start;
+      return startEnergy;
+    }
+    const SizeValueType c = order[i];
+    const SizeValueType k = parentEdge[c];
+    if (k == none)
+    {
+      continue;
+    }
+    const bool          childFirst = m_Edges[k].first == c;
+    const SizeValueType parent = childFirst ? m_Edges[k].second : m_Edges[k].first;
+    const double *      childBelief = &belief[c * L];
+    double *            parentBelief = &belief[parent * L];
+    LabelType *         best = &bestChildLabel[c * L];
+    if (m_QuadraticWeight >= 0.0)
+    {
+      // V = w (|o|^2 + |v_a - v_b|^2 + 2 s o.(v_b - v_a)), with a the parent's label, b the child's and s = +1 when
+      // the child is the edge's first node: the terms of b alone are added to the belief once.
+      const VectorType & offset = m_EdgeOffsets[k];
+      const double       sign = childFirst ? 1.0 : -1.0;
+      const double       w = m_QuadraticWeight;
+      const double       offsetSquared = offset[0] * offset[0] + offset[1] * offset[1] + offset[2] * offset[2];
+      for (LabelType b = 0; b < L; ++b)
+      {
+        const VectorType & v = m_LabelVectors[b];
+        shifted[b] = childBelief[b] + 2.0 * sign * w * (offset[0] * v[0] + offset[1] * v[1] + offset[2] * v[2]);
+      }
+      for (LabelType a = 0; a < L; ++a)
+      {
+        const double * distances = &m_LabelDistances[a * L];
+        double         minimum = std::numeric_limits<double>::infinity();
+        LabelType      argument = 0;
+        for (LabelType b = 0; b < L; ++b)
+        {
+          const double value = shifted[b] + w * distances[b];
+          if (value < minimum)
+          {
+            minimum = value;
+            argument = b;
+          }
+        }
+        const VectorType & v = m_LabelVectors[a];
+        parentBelief[a] +=
+          minimum + w * offsetSquared - 2.0 * sign * w * (offset[0] * v[0] + offset[1] * v[1] + offset[2] * v[2]);
+        best[a] = argument;
+      }
+      continue;
+    }
+    for (LabelType a = 0; a < L; ++a)
+    {
+      double    minimum = std::numeric_limits<double>::infinity();
+      LabelType argument = 0;
+      for (LabelType b = 0; b < L; ++b)
+      {
+        const double value = childBelief[b] + (childFirst ? this->Pairwise(k, b, a) : this->Pairwise(k, a, b));
+        if (value < minimum)
+        {
+          minimum = value;
+          argument = b;
+        }
+      }
+      parentBelief[a] += minimum;
+      best[a] = argument;
+    }
+  }
+  // Downward pass: each root takes its best label, each child the label that minimized its message.
+  for (const SizeValueType p : order)
+  {
+    const SizeValueType k = parentEdge[p];
+    if (k == none)
+    {
+      const double * rootBelief = &belief[p * L];
+      labeling[p] = static_cast<LabelType>(std::min_element(rootBelief, rootBelief + L) - rootBelief);
+    }
+    else
+    {
+      const SizeValueType parent = m_Edges[k].first == p ? m_Edges[k].second : m_Edges[k].first;
+      labeling[p] = bestChildLabel[p * L + labeling[parent]];
+    }
+  }
+  m_NumberOfCyclesPerformed = 1;
+
+  // The edges left out of the tree: ICM sweeps on the whole graph from the tree's optimum.
+  if (m_SpanningTreeEdges.size() < m_Edges.size())
+  {
+    this->SweepICM(labeling, m_MaximumNumberOfCycles - 1);
+  }
+  const double energy = this->ComputeEnergy(labeling);
+  if (energy > startEnergy)
+  {
+    labeling = start;
+    return startEnergy;
+  }
+  return energy;
 }
 
 double
@@ -563,6 +805,8 @@ MRFLabelingSolver::PrintSelf(std::ostream & os, Indent indent) const
   os << indent << "UnaryCosts: " << m_UnaryCosts.size() << " values" << std::endl;
   os << indent << "Edges: " << m_Edges.size() << std::endl;
   os << indent << "PairwiseFunction: " << (m_PairwiseFunction ? "set" : "not set") << std::endl;
+  os << indent << "QuadraticWeight: " << m_QuadraticWeight << (m_QuadraticWeight < 0.0 ? " (not used)" : "")
+     << std::endl;
   os << indent << "Algorithm: " << m_Algorithm << std::endl;
   os << indent << "MaximumNumberOfCycles: " << m_MaximumNumberOfCycles << std::endl;
   os << indent << "MaximumRunTime: " << m_MaximumRunTime << std::endl;
@@ -570,6 +814,7 @@ MRFLabelingSolver::PrintSelf(std::ostream & os, Indent indent) const
   os << indent << "NumberOfCyclesPerformed: " << m_NumberOfCyclesPerformed << std::endl;
   os << indent << "NumberOfAcceptedMoves: " << m_NumberOfAcceptedMoves << std::endl;
   os << indent << "NumberOfTruncatedTerms: " << m_NumberOfTruncatedTerms << std::endl;
+  os << indent << "SpanningTreeEdges: " << m_SpanningTreeEdges.size() << std::endl;
   os << indent << "NodeEdges: " << m_NodeEdges.size() << std::endl;
 }
 } // namespace itk

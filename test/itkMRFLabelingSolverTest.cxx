@@ -16,6 +16,7 @@
  *
  *=========================================================================*/
 #include "itkMRFLabelingSolver.h"
+#include "itkMRFLabelingSolverTestHelpers.h"
 #include "itkTestingMacros.h"
 #include <chrono>
 #include <random>
@@ -150,29 +151,7 @@ MakeGridProblem(std::mt19937 &                                                  
   {
     problem.Unary.push_back(uniform(random));
   }
-  edges.clear();
-  for (itk::SizeValueType z = 0; z < n; ++z)
-  {
-    for (itk::SizeValueType y = 0; y < n; ++y)
-    {
-      for (itk::SizeValueType x = 0; x < n; ++x)
-      {
-        const itk::SizeValueType p = x + n * (y + n * z);
-        if (x + 1 < n)
-        {
-          edges.emplace_back(p, p + 1);
-        }
-        if (y + 1 < n)
-        {
-          edges.emplace_back(p, p + n);
-        }
-        if (z + 1 < n)
-        {
-          edges.emplace_back(p, p + n * n);
-        }
-      }
-    }
-  }
+  edges = itk::testing::MRFGridEdges(n);
   for (size_t k = 0; k < edges.size(); ++k)
   {
     const double        weight = 0.4 * uniform(random);
@@ -193,23 +172,7 @@ MakeGridProblem(std::mt19937 &                                                  
 double
 ChainMinimum(const RandomProblem & problem)
 {
-  const unsigned int  labels = problem.Labels;
-  std::vector<double> best(problem.Unary.begin(), problem.Unary.begin() + labels);
-  std::vector<double> next(labels);
-  for (itk::SizeValueType p = 1; p < problem.Nodes; ++p)
-  {
-    for (unsigned int b = 0; b < labels; ++b)
-    {
-      double value = std::numeric_limits<double>::max();
-      for (unsigned int a = 0; a < labels; ++a)
-      {
-        value = std::min(value, best[a] + problem.Tables[p - 1][a * labels + b]);
-      }
-      next[b] = value + problem.Unary[p * labels + b];
-    }
-    best.swap(next);
-  }
-  return *std::min_element(best.begin(), best.end());
+  return itk::testing::MRFChainMinimum(problem.Nodes, problem.Labels, problem.Unary, problem.Tables);
 }
 } // namespace
 
