@@ -532,78 +532,102 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::MinimumJacobianDet
   const BSplineTransformType * transform) const
 {
   // Two samples per axis in each cell of the control grid, at local coordinates 1/4 and 3/4: there the 1-D
-  // weights and derivatives are the same in every cell.
+  // weights and derivatives are the same in every cell. The 27 partial sums per cell and sample (3 components x 3
+  // derivative directions, each a tensor product of 4-tap filters) are computed separably: along x, then y, then z.
   const auto & images = transform->GetCoefficientImages();
   const auto   size = images[0]->GetLargestPossibleRegion().GetSize();
   const auto & spacing = images[0]->GetSpacing();
   const auto   inverseDirection = images[0]->GetInverseDirection();
-  double       weights[2][4];
-  double       derivatives[2][4];
-  for (unsigned int s = 0; s < 2; ++s)
+  // taps[s][t][k]: sample s (local 1/4 or 3/4), t = 0 the weights, t = 1 the derivatives.
+  double taps[2][2][4];
+  for (unsigned int sample = 0; sample < 2; ++sample)
   {
-    const double t = 0.25 + 0.5 * s;
+    const double t = 0.25 + 0.5 * sample;
     for (unsigned int k = 0; k < 4; ++k)
     {
-      weights[s][k] = detail::CubicBSpline(1.0 + t - k);
-      derivatives[s][k] = detail::CubicBSplineDerivative(1.0 + t - k);
+      taps[sample][0][k] = detail::CubicBSpline(1.0 + t - k);
+      taps[sample][1][k] = detail::CubicBSplineDerivative(1.0 + t - k);
     }
   }
-  const double *     coefficients[3] = { images[0]->GetBufferPointer(),
-                                         images[1]->GetBufferPointer(),
-                                         images[2]->GetBufferPointer() };
-  const size_t       gx = size[0];
-  const size_t       gxy = gx * size[1];
-  const unsigned int cells[3] = { static_cast<unsigned int>(size[0] - 3),
-                                  static_cast<unsigned int>(size[1] - 3),
-                                  static_cast<unsigned int>(size[2] - 3) };
-  double             minimum = std::numeric_limits<double>::max();
-  for (unsigned int cz = 0; cz < cells[2]; ++cz)
-  {
-    for (unsigned int cy = 0; cy < cells[1]; ++cy)
+  const size_t n[3] = { size[0], size[1], size[2] };
+  const size_t cells[3] = { n[0] - 3, n[1] - 3, n[2] - 3 };
+  // Filters one axis of a (nx, ny, nz) array into a (cells along that axis) one, with taps f.
+  const auto filterAxis = [](const std::vector<double> & in,
+                             const size_t(&inSize)[3],
+                             unsigned int          axis,
+                             const double *        f,
+                             std::vector<double> & out,
+                             size_t(&outSize)[3]) {
+    for (unsigned int a = 0; a < 3; ++a)
     {
-      for (unsigned int cx = 0; cx < cells[0]; ++cx)
+      outSize[a] = a == axis ? inSize[a] - 3 : inSize[a];
+    }
+    out.assign(outSize[0] * outSize[1] * outSize[2], 0.0);
+    const size_t stride = axis == 0 ? 1 : (axis == 1 ? inSize[0] : inSize[0] * inSize[1]);
+    for (size_t z = 0; z < outSize[2]; ++z)
+    {
+      for (size_t y = 0; y < outSize[1]; ++y)
       {
-        for (unsigned int sample = 0; sample < 8; ++sample)
+        for (size_t x = 0; x < outSize[0]; ++x)
         {
-          const unsigned int s[3] = { sample & 1u, (sample >> 1) & 1u, (sample >> 2) & 1u };
-          // gradient[d][j] = d displacement_d / d grid index_j
-          double gradient[3][3] = {};
-          for (unsigned int kz = 0; kz < 4; ++kz)
-          {
-            for (unsigned int ky = 0; ky < 4; ++ky)
-            {
-              for (unsigned int kx = 0; kx < 4; ++kx)
-              {
-                const size_t offset = (cx + kx) + gx * (cy + ky) + gxy * (cz + kz);
-                const double w[3] = { derivatives[s[0]][kx] * weights[s[1]][ky] * weights[s[2]][kz],
-                                      weights[s[0]][kx] * derivatives[s[1]][ky] * weights[s[2]][kz],
-                                      weights[s[0]][kx] * weights[s[1]][ky] * derivatives[s[2]][kz] };
-                for (unsigned int d = 0; d < 3; ++d)
-                {
-                  const double c = coefficients[d][offset];
-                  gradient[d][0] += w[0] * c;
-                  gradient[d][1] += w[1] * c;
-                  gradient[d][2] += w[2] * c;
-                }
-              }
-            }
-          }
-          Matrix<double, 3, 3> jacobian;
-          for (unsigned int d = 0; d < 3; ++d)
-          {
-            for (unsigned int k = 0; k < 3; ++k)
-            {
-              double sum = (d == k) ? 1.0 : 0.0;
-              for (unsigned int j = 0; j < 3; ++j)
-              {
-                sum += gradient[d][j] * inverseDirection[j][k] / spacing[j];
-              }
-              jacobian[d][k] = sum;
-            }
-          }
-          minimum = std::min(minimum, detail::MatrixDeterminant(jacobian));
+          const double * first = &in[x + inSize[0] * (y + inSize[1] * z)];
+          out[x + outSize[0] * (y + outSize[1] * z)] =
+            f[0] * first[0] + f[1] * first[stride] + f[2] * first[2 * stride] + f[3] * first[3 * stride];
         }
       }
+    }
+  };
+  const size_t numberOfCells = cells[0] * cells[1] * cells[2];
+  // gradient[s][d][j][cell] = d displacement_d / d grid index_j at sample s of the cell.
+  std::vector<double> gradient[8][3][3];
+  std::vector<double> coefficients, alongX, alongY, alongZ;
+  size_t              sizeX[3], sizeY[3], sizeZ[3];
+  for (unsigned int d = 0; d < 3; ++d)
+  {
+    coefficients.assign(images[d]->GetBufferPointer(), images[d]->GetBufferPointer() + n[0] * n[1] * n[2]);
+    for (unsigned int sx = 0; sx < 2; ++sx)
+    {
+      for (unsigned int tx = 0; tx < 2; ++tx)
+      {
+        filterAxis(coefficients, n, 0, taps[sx][tx], alongX, sizeX);
+        for (unsigned int sy = 0; sy < 2; ++sy)
+        {
+          for (unsigned int ty = 0; ty + tx < 2; ++ty)
+          {
+            filterAxis(alongX, sizeX, 1, taps[sy][ty], alongY, sizeY);
+            for (unsigned int sz = 0; sz < 2; ++sz)
+            {
+              // Exactly one axis takes the derivative taps; it is the derivative's direction.
+              for (unsigned int tz = (tx + ty == 0) ? 1 : 0; tz + ty + tx < 2; ++tz)
+              {
+                filterAxis(alongY, sizeY, 2, taps[sz][tz], alongZ, sizeZ);
+                gradient[sx + 2 * sy + 4 * sz][d][tx ? 0 : (ty ? 1 : 2)].swap(alongZ);
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+  double minimum = std::numeric_limits<double>::max();
+  for (unsigned int sample = 0; sample < 8; ++sample)
+  {
+    for (size_t cell = 0; cell < numberOfCells; ++cell)
+    {
+      Matrix<double, 3, 3> jacobian;
+      for (unsigned int d = 0; d < 3; ++d)
+      {
+        for (unsigned int k = 0; k < 3; ++k)
+        {
+          double sum = (d == k) ? 1.0 : 0.0;
+          for (unsigned int j = 0; j < 3; ++j)
+          {
+            sum += gradient[sample][d][j][cell] * inverseDirection[j][k] / spacing[j];
+          }
+          jacobian[d][k] = sum;
+        }
+      }
+      minimum = std::min(minimum, detail::MatrixDeterminant(jacobian));
     }
   }
   return minimum;

@@ -570,8 +570,13 @@ MRFLabelingSolver::ComputeSpanningTree()
   // costs differ: the tree keeps the couplings of nodes whose data agree.
   using EdgeProperties =
     boost::property<boost::edge_weight_t, double, boost::property<boost::edge_index_t, SizeValueType>>;
-  using GraphType =
-    boost::adjacency_list<boost::vecS, boost::vecS, boost::undirectedS, boost::no_property, EdgeProperties>;
+  using GraphType = boost::adjacency_list<boost::vecS,
+                                          boost::vecS,
+                                          boost::undirectedS,
+                                          boost::no_property,
+                                          EdgeProperties,
+                                          boost::no_property,
+                                          boost::vecS>;
   GraphType graph(m_NumberOfNodes);
   for (SizeValueType k = 0; k < m_Edges.size(); ++k)
   {
