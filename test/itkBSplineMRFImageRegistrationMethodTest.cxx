@@ -52,9 +52,9 @@ BruteForceMinimumJacobianDeterminant(const BSplineType * transform)
 {
   itk::detail::SpatialJacobianEvaluator<double, Dimension> evaluator;
   evaluator.Initialize(transform);
-  const auto & grid = transform->GetCoefficientImages()[0];
-  const auto   size = grid->GetLargestPossibleRegion().GetSize();
-  double       minimum = std::numeric_limits<double>::max();
+  const auto grid = transform->GetCoefficientImages()[0]; // a copy: the array is returned by value
+  const auto size = grid->GetLargestPossibleRegion().GetSize();
+  double     minimum = std::numeric_limits<double>::max();
   for (unsigned int cz = 0; cz + 3 < size[2]; ++cz)
   {
     for (unsigned int cy = 0; cy + 3 < size[1]; ++cy)
