@@ -212,7 +212,8 @@ public:
   itkSetMacro(FoldingThreshold, double);
   itkGetConstMacro(FoldingThreshold, double);
 
-  /** Alpha-expansion cycles (or ICM sweeps) per iteration, at least 1. Default: 2. */
+  /** Alpha-expansion cycles (ICM: sweeps; SpanningTree: the tree's minimum, then this number minus one ICM sweeps)
+   * per iteration, at least 1. Default: 2. */
   itkSetMacro(NumberOfSolverCycles, unsigned int);
   itkGetConstMacro(NumberOfSolverCycles, unsigned int);
 

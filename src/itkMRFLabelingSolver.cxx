@@ -753,7 +753,7 @@ MRFLabelingSolver::SolveSpanningTree(LabelingType & labeling)
   m_NumberOfCyclesPerformed = 1;
 
   // The edges left out of the tree: ICM sweeps on the whole graph from the tree's optimum.
-  if (m_SpanningTreeEdges.size() < m_Edges.size())
+  if (m_SpanningTreeEdges.size() < m_Edges.size() && m_MaximumNumberOfCycles > 1)
   {
     this->SweepICM(labeling, m_MaximumNumberOfCycles - 1);
   }
