@@ -406,6 +406,22 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::ConfigureUnaryCost
   m_UnaryCosts.SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
 }
 
+namespace detail
+{
+/** Displacement vectors as plain arrays, the form of the unary costs' labels and of the solver's label vectors. */
+template <typename TVector>
+std::vector<std::array<double, 3>>
+BSplineMRFLabelArrays(const std::vector<TVector> & vectors)
+{
+  std::vector<std::array<double, 3>> arrays(vectors.size());
+  for (size_t l = 0; l < vectors.size(); ++l)
+  {
+    arrays[l] = { { vectors[l][0], vectors[l][1], vectors[l][2] } };
+  }
+  return arrays;
+}
+} // namespace detail
+
 template <typename TFixedImage, typename TMovingImage>
 std::vector<double>
 BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::ComputeUnaries(
@@ -414,11 +430,7 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::ComputeUnaries(
   const std::vector<DisplacementType> & labels,
   bool                                  stopAtTimeLimit) const
 {
-  std::vector<detail::BSplineMRFUnaryCosts::LabelType> displacements(labels.size());
-  for (size_t l = 0; l < labels.size(); ++l)
-  {
-    displacements[l] = { { labels[l][0], labels[l][1], labels[l][2] } };
-  }
+  const auto            displacements = detail::BSplineMRFLabelArrays(labels);
   std::function<bool()> timeIsUp;
   if (stopAtTimeLimit)
   {
@@ -552,7 +564,7 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::MinimumJacobianDet
   const size_t n[3] = { size[0], size[1], size[2] };
   const size_t cells[3] = { n[0] - 3, n[1] - 3, n[2] - 3 };
   // Filters one axis of a (nx, ny, nz) array into a (cells along that axis) one, with taps f.
-  const auto filterAxis = [](const std::vector<double> & in,
+  const auto filterAxis = [](const double * in,
                              const size_t(&inSize)[3],
                              unsigned int          axis,
                              const double *        f,
@@ -562,7 +574,7 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::MinimumJacobianDet
     {
       outSize[a] = a == axis ? inSize[a] - 3 : inSize[a];
     }
-    out.assign(outSize[0] * outSize[1] * outSize[2], 0.0);
+    out.resize(outSize[0] * outSize[1] * outSize[2]);
     const size_t stride = axis == 0 ? 1 : (axis == 1 ? inSize[0] : inSize[0] * inSize[1]);
     for (size_t z = 0; z < outSize[2]; ++z)
     {
@@ -580,27 +592,26 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::MinimumJacobianDet
   const size_t numberOfCells = cells[0] * cells[1] * cells[2];
   // gradient[s][d][j][cell] = d displacement_d / d grid index_j at sample s of the cell.
   std::vector<double> gradient[8][3][3];
-  std::vector<double> coefficients, alongX, alongY, alongZ;
+  std::vector<double> alongX, alongY, alongZ;
   size_t              sizeX[3], sizeY[3], sizeZ[3];
   for (unsigned int d = 0; d < 3; ++d)
   {
-    coefficients.assign(images[d]->GetBufferPointer(), images[d]->GetBufferPointer() + n[0] * n[1] * n[2]);
     for (unsigned int sx = 0; sx < 2; ++sx)
     {
       for (unsigned int tx = 0; tx < 2; ++tx)
       {
-        filterAxis(coefficients, n, 0, taps[sx][tx], alongX, sizeX);
+        filterAxis(images[d]->GetBufferPointer(), n, 0, taps[sx][tx], alongX, sizeX);
         for (unsigned int sy = 0; sy < 2; ++sy)
         {
           for (unsigned int ty = 0; ty + tx < 2; ++ty)
           {
-            filterAxis(alongX, sizeX, 1, taps[sy][ty], alongY, sizeY);
+            filterAxis(alongX.data(), sizeX, 1, taps[sy][ty], alongY, sizeY);
             for (unsigned int sz = 0; sz < 2; ++sz)
             {
               // Exactly one axis takes the derivative taps; it is the derivative's direction.
               for (unsigned int tz = (tx + ty == 0) ? 1 : 0; tz + ty + tx < 2; ++tz)
               {
-                filterAxis(alongY, sizeY, 2, taps[sz][tz], alongZ, sizeZ);
+                filterAxis(alongY.data(), sizeY, 2, taps[sz][tz], alongZ, sizeZ);
                 gradient[sx + 2 * sy + 4 * sz][d][tx ? 0 : (ty ? 1 : 2)].swap(alongZ);
               }
             }
@@ -715,18 +726,9 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::RunLevel(unsigned 
     if (m_PairwiseFunction == PairwiseFunctionEnum::Quadratic)
     {
       // The solver's inline model: lambda |u_p + d_a - u_q - d_b|^2 / h^2.
-      std::vector<MRFLabelingSolver::VectorType> labelVectors(labels.size());
-      for (size_t l = 0; l < labels.size(); ++l)
-      {
-        labelVectors[l] = { { labels[l][0], labels[l][1], labels[l][2] } };
-      }
-      std::vector<MRFLabelingSolver::VectorType> offsets(edges.size());
-      for (size_t k = 0; k < edges.size(); ++k)
-      {
-        offsets[k] = { { edgeDifferences[k][0], edgeDifferences[k][1], edgeDifferences[k][2] } };
-      }
-      solver->SetQuadraticPairwise(
-        std::move(labelVectors), std::move(offsets), m_RegularizationWeight * inverseSpacing * inverseSpacing);
+      solver->SetQuadraticPairwise(detail::BSplineMRFLabelArrays(labels),
+                                   detail::BSplineMRFLabelArrays(edgeDifferences),
+                                   m_RegularizationWeight * inverseSpacing * inverseSpacing);
     }
     else
     {

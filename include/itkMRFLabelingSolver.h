@@ -297,7 +297,6 @@ private:
   double                                  m_QuadraticWeight{ -1.0 }; // < 0: the function is used
   std::vector<VectorType>                 m_LabelVectors{};
   std::vector<VectorType>                 m_EdgeOffsets{};
-  std::vector<double>                     m_LabelDistances{};
 };
 } // namespace itk
 

@@ -232,7 +232,7 @@ public:
 
   /** MRF: the discrete solver. SpanningTree (default): the exact minimum over a minimum spanning tree of the control
    * grid, then two ICM sweeps over the whole grid; AlphaExpansion: alpha-expansion by max-flow, one cycle per
-   * iteration (about twice the registration time for the same accuracy on the benchmark); ICM: up to ten sweeps.
+   * iteration (about three times the registration time for the same accuracy on the benchmark); ICM: up to ten sweeps.
    * Exhaustive is refused by the MRF registration. */
   itkSetEnumMacro(MRFSolver, MRFSolverEnum);
   itkGetEnumMacro(MRFSolver, MRFSolverEnum);

@@ -648,9 +648,10 @@ MRFLabelingSolver::SolveSpanningTree(LabelingType & labeling)
   const LabelType     L = m_NumberOfLabels;
   std::vector<double> belief(m_UnaryCosts);
   std::vector<double> shifted(L);
+  std::vector<double> labelDistances; // |v_a - v_b|^2 of the quadratic model
   if (m_QuadraticWeight >= 0.0)
   {
-    m_LabelDistances.resize(static_cast<size_t>(L) * L);
+    labelDistances.resize(static_cast<size_t>(L) * L);
     for (LabelType a = 0; a < L; ++a)
     {
       for (LabelType b = 0; b < L; ++b)
@@ -661,7 +662,7 @@ MRFLabelingSolver::SolveSpanningTree(LabelingType & labeling)
           const double difference = m_LabelVectors[a][d] - m_LabelVectors[b][d];
           squared += difference * difference;
         }
-        m_LabelDistances[a * L + b] = squared;
+        labelDistances[a * L + b] = squared;
       }
     }
   }
@@ -699,7 +700,7 @@ MRFLabelingSolver::SolveSpanningTree(LabelingType & labeling)
       }
       for (LabelType a = 0; a < L; ++a)
       {
-        const double * distances = &m_LabelDistances[a * L];
+        const double * distances = &labelDistances[a * L];
         double         minimum = std::numeric_limits<double>::infinity();
         LabelType      argument = 0;
         for (LabelType b = 0; b < L; ++b)
