@@ -198,9 +198,16 @@ public:
   itkSetMacro(MinimumJacobianDeterminant, double);
   itkGetConstMacro(MinimumJacobianDeterminant, double);
 
-  /** Conjugate-gradient iterations per M-step. Default: 30. */
+  /** Conjugate-gradient iterations per M-step, at most. Default: 30. */
   itkSetClampMacro(NumberOfSolverIterations, unsigned int, 1, NumericTraits<unsigned int>::max());
   itkGetConstMacro(NumberOfSolverIterations, unsigned int);
+
+  /** An M-step's conjugate gradients stop once each coordinate's residual is below this fraction of its right-hand
+   * side (or after NumberOfSolverIterations). Default: 1e-3 (measured on the module's benchmark: 13 % less CPU for
+   * GOCPD than 1e-8, the mean true errors within 0.015 mm over 3 seeds; benchmark/PEERS_MESH.md). 0 takes
+   * NumberOfSolverIterations every time. */
+  itkSetClampMacro(SolverTolerance, double, 0.0, 1.0);
+  itkGetConstMacro(SolverTolerance, double);
 
   /** Seed of the sampling. Default: 121212. */
   itkSetMacro(RandomSeed, int);
@@ -268,6 +275,7 @@ private:
   unsigned int m_NumberOfNeighbors{ 8 };
   double       m_MinimumJacobianDeterminant{ 0.1 };
   unsigned int m_NumberOfSolverIterations{ 30 };
+  double       m_SolverTolerance{ 1e-3 };
   int          m_RandomSeed{ 121212 };
   double       m_MaximumRunTime{ 0.0 };
 

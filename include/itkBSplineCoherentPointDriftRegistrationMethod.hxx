@@ -665,7 +665,8 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
       normalMatrix.Fill(dataValues + (lambda * scale) * prior, system);
       // The Dimension right-hand sides side by side: one pass over the matrix per iteration serves all of them.
       RowMajorCoefficients columns = coefficient;
-      detail::SolveSparseConjugateGradient<Dimension>(system, rhs, columns, m_NumberOfSolverIterations, 1e-8);
+      detail::SolveSparseConjugateGradient<Dimension>(
+        system, rhs, columns, m_NumberOfSolverIterations, m_SolverTolerance);
       solved = columns;
       // Fold check at the target samples.
       if (minimumDeterminantOf(solved) >= m_MinimumJacobianDeterminant || attempt >= 6)
@@ -748,6 +749,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::PrintSelf(
   os << indent << "NumberOfNeighbors: " << m_NumberOfNeighbors << std::endl;
   os << indent << "MinimumJacobianDeterminant: " << m_MinimumJacobianDeterminant << std::endl;
   os << indent << "NumberOfSolverIterations: " << m_NumberOfSolverIterations << std::endl;
+  os << indent << "SolverTolerance: " << m_SolverTolerance << std::endl;
   os << indent << "RandomSeed: " << m_RandomSeed << std::endl;
   os << indent << "MaximumRunTime: " << m_MaximumRunTime << std::endl;
   os << indent << "TimeLimitReached: " << m_TimeLimitReached << std::endl;

@@ -239,6 +239,7 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunBSplineStage(
   regularized->GetModifiablePenalty()->SetBendingEnergyWeight(m_BendingEnergyWeight);
   regularized->GetModifiablePenalty()->SetFoldingPenaltyWeight(m_FoldingPenaltyWeight);
   typename ImageMetricType::Pointer metric = regularized.GetPointer();
+  metric->SetUseMovingImageGradientFilter(m_UseMovingImageGradientFilter);
   if (const auto * mask = this->GetFixedImageMask())
   {
     using SpatialMaskType = ImageMaskSpatialObject<ImageDimension>;
@@ -405,6 +406,7 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::PrintSelf(std::ost
   os << indent << "BendingEnergyWeight: " << m_BendingEnergyWeight << std::endl;
   os << indent << "FoldingPenaltyWeight: " << m_FoldingPenaltyWeight << std::endl;
   os << indent << "UseAffineStage: " << (m_UseAffineStage ? "On" : "Off") << std::endl;
+  os << indent << "UseMovingImageGradientFilter: " << (m_UseMovingImageGradientFilter ? "On" : "Off") << std::endl;
   os << indent << "MetricValues: " << m_MetricValues.size() << " iterations" << std::endl;
   os << indent << "StopConditionDescription: " << m_StopConditionDescription << std::endl;
 }

@@ -29,6 +29,7 @@
 #include ITK_EIGEN(SparseCholesky)
 
 #include <algorithm>
+#include <functional>
 #include <iostream>
 #include <limits>
 #include <random>
@@ -502,6 +503,12 @@ itkBSplineCoherentPointDriftRegistrationMethodTest(int, char *[])
   registration->SetConvergenceTolerance(-1.0);
   ITK_TEST_SET_GET_VALUE(0.0, registration->GetConvergenceTolerance()); // clamped
   registration->SetConvergenceTolerance(1e-3);
+  ITK_TEST_SET_GET_VALUE(1e-3, registration->GetSolverTolerance());
+  registration->SetSolverTolerance(2.0);
+  ITK_TEST_SET_GET_VALUE(1.0, registration->GetSolverTolerance()); // clamped
+  registration->SetSolverTolerance(-1.0);
+  ITK_TEST_SET_GET_VALUE(0.0, registration->GetSolverTolerance()); // clamped
+  registration->SetSolverTolerance(1e-3);
 
   // Bad input: no meshes, an empty one, a target without polygons, meshes apart, an initial transform that is not a
   // B-spline.
@@ -560,30 +567,42 @@ itkBSplineCoherentPointDriftRegistrationMethodTest(int, char *[])
   ITK_TEST_EXPECT_EQUAL(transform->GetCoefficientImages()[0]->GetLargestPossibleRegion().GetSize()[0], 8u);
   ITK_TEST_EXPECT_TRUE(!registration->GetTimeLimitReached());
 
+  // Further runs on the cap from the identity (grid 8), each with one setting changed.
+  const auto runOnCap = [&](const std::function<void(RegistrationType *)> & configure) {
+    auto run = RegistrationType::New();
+    run->SetFixedMesh(target);
+    run->SetMovingMesh(source);
+    run->SetNumberOfControlPointsPerAxis(8);
+    configure(run);
+    run->Update();
+    return run;
+  };
+
   // Over-relaxed EM from the identity (1.8 instead of the automatic 1) also matches the cap without folding.
   {
-    auto relaxed = RegistrationType::New();
-    relaxed->SetFixedMesh(target);
-    relaxed->SetMovingMesh(source);
-    relaxed->SetNumberOfControlPointsPerAxis(8);
-    relaxed->SetOverRelaxation(1.8);
-    ITK_TRY_EXPECT_NO_EXCEPTION(relaxed->Update());
+    const auto   relaxed = runOnCap([](RegistrationType * run) { run->SetOverRelaxation(1.8); });
     const double relaxedError = TransformTrueError(relaxed->GetTransform(), source, target, truth);
     std::cout << "over-relaxed EM: true error " << relaxedError << " mm (plain " << after << " mm)" << std::endl;
     ITK_TEST_EXPECT_TRUE(relaxedError < before);
     ITK_TEST_EXPECT_TRUE(std::abs(relaxedError - after) > 1e-6); // the setting is used
   }
 
+  // The solver tolerance: M-steps solved to NumberOfSolverIterations every time (tolerance 0) end near the default's
+  // (1e-3) result, which stops the conjugate gradients earlier.
+  {
+    const auto   exact = runOnCap([](RegistrationType * run) { run->SetSolverTolerance(0.0); });
+    const double exactError = TransformTrueError(exact->GetTransform(), source, target, truth);
+    std::cout << "solver tolerance 0: true error " << exactError << " mm (1e-3: " << after << " mm)" << std::endl;
+    ITK_TEST_EXPECT_TRUE(exactError < 0.6 * before);
+    ITK_TEST_EXPECT_TRUE(std::abs(exactError - after) < 0.1 * exactError);
+    ITK_TEST_EXPECT_TRUE(std::abs(exactError - after) > 1e-9); // the setting is used
+  }
+
   // The convergence tolerance: with none the run takes every iteration; a coarse one stops it once sigma is at its
   // floor, earlier, and says why; the default stops between the two.
   {
     const auto runWith = [&](double tolerance, unsigned int & count, std::string & description) {
-      auto run = RegistrationType::New();
-      run->SetFixedMesh(target);
-      run->SetMovingMesh(source);
-      run->SetNumberOfControlPointsPerAxis(8);
-      run->SetConvergenceTolerance(tolerance);
-      run->Update();
+      const auto run = runOnCap([tolerance](RegistrationType * r) { r->SetConvergenceTolerance(tolerance); });
       count = static_cast<unsigned int>(run->GetSigmaValues().size());
       description = run->GetStopConditionDescription();
       return TransformTrueError(run->GetTransform(), source, target, truth);

@@ -201,6 +201,12 @@ itkMeshShapeMatchingFilterTest(int, char *[])
     ITK_TEST_EXPECT_TRUE(filter->GetTransform() != nullptr);
     ITK_TEST_EXPECT_EQUAL(filter->GetTransform(), filter->GetModifiableMeshTransformFilter()->GetTransform());
     ITK_TEST_EXPECT_TRUE(filter->GetNumberOfOpenBoundaryEdges() > 0);
+    // GO alone takes the moving image's gradient from ITK's filter; GOCPD's first stage from central differences.
+    if (method != MethodEnum::MRF)
+    {
+      ITK_TEST_EXPECT_EQUAL(filter->GetModifiableGORegistration()->GetUseMovingImageGradientFilter(),
+                            method == MethodEnum::GO);
+    }
     std::cout << progressEvents << " progress events, the last at " << lastProgress << std::endl;
     ITK_TEST_EXPECT_TRUE(progressEvents > 10);
     ITK_TEST_EXPECT_TRUE(std::abs(lastProgress - 1.0f) < 1e-3f);
