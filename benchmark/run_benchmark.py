@@ -26,6 +26,7 @@ import tarfile
 import time
 import zlib
 
+import deeds_peer
 import posed_cases
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -38,11 +39,21 @@ ALL_REGIMES = ["paper", "smooth", "short", "posed"]
 # from the seed (posed_cases.random_pose), run on request.
 DEFAULT_REGIMES = ["paper", "smooth"]
 ALL_METHODS = ["go", "mrf", "par", "go+par", "mrf+par", "go+cpd"]
-IMAGE_PEERS = ["elastix", "plastimatch-mi", "plastimatch-mse"]
+# Image peers given by an environment variable (built outside the repository; benchmark/README.md, "deeds").
+GIVEN_IMAGE_PEERS = {"deeds": "DEEDS_EXE"}
+IMAGE_PEERS = ["elastix", "plastimatch-mi", "plastimatch-mse"] + list(GIVEN_IMAGE_PEERS)
 # Point-set peers: programs that are not installed by the benchmark, given by an environment variable
 # (benchmark/README.md, "Point-set peers"); nothing of them is in the repository.
 POINT_PEERS = {"bcpd": "BCPD_EXE", "nicp": "NICP_EXE"}
+# Every peer that runs only when its program is given, and the variable that gives it.
+GIVEN_PEERS = dict(POINT_PEERS, **GIVEN_IMAGE_PEERS)
 ALL_PEERS = IMAGE_PEERS + list(POINT_PEERS)
+# deeds' options after -F, -M and -O, for the benchmark's 1 mm images of about 70^3 voxels: 3 levels of control
+# grids 6, 5 and 4 voxels apart (the module's grid 20 is about 5 voxels apart), searches up to 8, 3 and 2 voxels.
+# Its own defaults (5 levels, grids 8x7x6x5x4, searches up to 40 voxels, for abdominal CT) and a smoother set
+# ended further from the truth on all 8 seed-1 cases (benchmark/README.md, "deeds"). FFD_DEEDS_OPTIONS replaces
+# them ("" for its defaults).
+DEEDS_OPTIONS = os.environ.get("FFD_DEEDS_OPTIONS", "-l 3 -G 6x5x4 -L 4x3x2 -Q 2x1x1")
 # BCPD's settings for roughly aligned shapes (-g0.1 -ux as its README recommends them; outlier probability 0.1,
 # beta 1.2, lambda 50; similarity + non-rigid) with its variational-Bayes acceleration (Nystrom + KD tree, the
 # values of its -A option); FFD_BCPD_OPTIONS replaces them.
@@ -443,31 +454,8 @@ def invert_affine(matrix, translation, centre):
 
 def read_mha_field(path):
     """A 3-D vector image of MetaImage format (header + LOCAL or separate data): header lines and the values."""
-    with open(path, "rb") as data:
-        content = data.read()
-    header = {}
-    position = 0
-    while True:
-        end = content.index(b"\n", position)
-        key, _, value = content[position:end].decode().partition("=")
-        header[key.strip()] = value.strip()
-        position = end + 1
-        if key.strip() == "ElementDataFile":
-            break
-    if header["ElementDataFile"] == "LOCAL":
-        raw = content[position:]
-    else:
-        with open(os.path.join(os.path.dirname(path), header["ElementDataFile"]), "rb") as data:
-            raw = data.read()
-    if header.get("CompressedData", "False").lower() == "true":
-        raw = zlib.decompress(raw)
-    kind = {"MET_FLOAT": "f", "MET_DOUBLE": "d"}[header["ElementType"]]
-    values = array.array(kind)
-    values.frombytes(raw)
-    if header.get("BinaryDataByteOrderMSB", "False").lower() == "true" or \
-            header.get("ElementByteOrderMSB", "False").lower() == "true":
-        values.byteswap()
-    if int(header.get("ElementNumberOfChannels", "1")) != 3 or int(header.get("NDims", "3")) != 3:
+    header, values = deeds_peer.read_metaimage(path)
+    if int(header.get("ElementNumberOfChannels", "1")) != 3:
         raise ValueError("%s is not a 3-D displacement field" % path)
     return header, values
 
@@ -534,6 +522,40 @@ def run_plastimatch(case, images, folder, tools, options, metric):
     if stages[-1].ok() and not os.path.exists(field):
         stages[-1].returncode = 1
         stages[-1].output += "\nerror: plastimatch wrote no vector field"
+    return stages, field
+
+
+def run_deeds(case, images, folder, options):
+    """deeds on the peers' images: both converted to NIfTI (deeds' only format), its control-grid displacements
+    converted back to a displacement field on the fixed image's frame (deeds_peer.py). deeds has no mask."""
+    program = os.environ[GIVEN_IMAGE_PEERS["deeds"]]
+    start = time.monotonic()
+    nifti = {}
+    for role in ("fixed", "moving"):
+        header, values = deeds_peer.read_metaimage(images[role])
+        nifti[role] = os.path.join(folder, role + ".nii.gz")
+        deeds_peer.write_nifti_gz(nifti[role], header, values)
+        if role == "fixed":
+            fixed_header = header
+    stages = [Stage("convert", time.monotonic() - start, 0.0, 0, "", time.monotonic() - start)]
+    stem = os.path.join(folder, "deeds")
+    displacements = stem + "_displacements.dat"
+    if os.path.exists(displacements):
+        os.remove(displacements)  # an earlier run's output must not be taken for this one's
+    environment = dict(os.environ, OMP_NUM_THREADS=str(options.threads))
+    stages.append(run("register", [program, "-F", nifti["fixed"], "-M", nifti["moving"], "-O", stem]
+                      + DEEDS_OPTIONS.split(), os.path.join(folder, "register.log"), environment=environment))
+    field = os.path.join(folder, "deeds-field.mha")
+    if stages[-1].ok():
+        start = time.monotonic()
+        returncode, output = 0, ""
+        try:
+            if not os.path.exists(displacements):
+                raise ValueError("deeds wrote no %s" % os.path.basename(displacements))
+            deeds_peer.deeds_grid_field(displacements, fixed_header, deeds_peer.deeds_grid_step(DEEDS_OPTIONS), field)
+        except (OSError, ValueError) as error:
+            returncode, output = 1, "error: deeds' displacements: %s" % error
+        stages.append(Stage("field", time.monotonic() - start, 0.0, returncode, output, time.monotonic() - start))
     return stages, field
 
 
@@ -752,16 +774,29 @@ def run_method(case, method, tools, options):
 
 
 def run_peer(case, peer, images, tools, options):
+    if peer in GIVEN_IMAGE_PEERS:
+        variable = GIVEN_IMAGE_PEERS[peer]
+        if not os.environ.get(variable):
+            return result_record(case, peer, "peer", [], None, "not run", "not run: %s not given" % variable)
+        if case["regime"] == "posed":
+            return result_record(case, peer, "peer", [], None, "not run",
+                                 "not run: deeds needs both images on one grid (the posed source has its own)")
+        if shutil.which(os.environ[variable]) is None:
+            return result_record(case, peer, "peer", [], None, "failed",
+                                 "%s=%s is not an executable program" % (variable, os.environ[variable]))
+    else:
+        executable = "elastix" if peer == "elastix" else "plastimatch"
+        if shutil.which(executable) is None:
+            return result_record(case, peer, "peer", [], None, "not run", "not run: %s is not installed" % executable)
     folder = os.path.join(case["folder"], "peers", peer)
     os.makedirs(folder, exist_ok=True)
     stages = list(images["stages"])
     if not all(stage.ok() for stage in stages):
         failed = [stage for stage in stages if not stage.ok()][0]
         return result_record(case, peer, "peer", stages, None, "failed", failed.reason())
-    executable = "elastix" if peer == "elastix" else "plastimatch"
-    if shutil.which(executable) is None:
-        return result_record(case, peer, "peer", [], None, "not run", "not run: %s is not installed" % executable)
-    if peer == "elastix":
+    if peer == "deeds":
+        register_stages, field = run_deeds(case, images, folder, options)
+    elif peer == "elastix":
         register_stages, field = run_elastix(case, images, folder, tools, options)
     else:
         register_stages, field = run_plastimatch(case, images, folder, tools, options, peer.split("-")[1])
@@ -795,7 +830,7 @@ def run_peer(case, peer, images, tools, options):
     # The images are large: keep only the scores once a peer has been scored.
     if not options.keep_images:
         for name in os.listdir(folder):
-            if name.endswith((".mha", ".raw", ".mhd", ".nii")):
+            if name.endswith((".mha", ".raw", ".mhd", ".nii", ".nii.gz", ".dat")):
                 os.remove(os.path.join(folder, name))
     return result_record(case, peer, "peer", stages, scores, "ok", None, extra)
 
@@ -889,9 +924,10 @@ def write_results(records, options, versions, results_dir, charts):
         add(options.note)
     add("")
     add("Versions: " + ", ".join("%s %s" % (k, v) for k, v in versions.items() if v))
-    point_peers = [p for p in options.peers if p in POINT_PEERS]
+    given_peers = [p for p in options.peers if p in GIVEN_PEERS]
+    point_peers = [p for p in given_peers if p in POINT_PEERS]
+    programs = getattr(options, "point_peer_programs", None) or {}
     if point_peers:
-        programs = getattr(options, "point_peer_programs", None) or {}
         texts = []
         for peer in point_peers:
             variable = POINT_PEERS[peer]
@@ -903,6 +939,13 @@ def write_results(records, options, versions, results_dir, charts):
         add("")
         add("Point-set peers (built outside the repository, README.md): " + "; ".join(texts) + ". They return the "
             "deformed source vertices, not a transform: their min det J is not defined and shows \"–\".")
+    for peer in [p for p in given_peers if p in GIVEN_IMAGE_PEERS]:
+        given = programs.get(peer)
+        add("")
+        add("Image peer %s = `$%s` (%s, built outside the repository, README.md), options `%s`, on the peers' images "
+            "converted to NIfTI; it has no mask option, and its field is read from its control grid "
+            "(deeds_peer.py)." % (peer, GIVEN_IMAGE_PEERS[peer], ("`%s`" % given) if given else "not given: not run",
+                                 DEEDS_OPTIONS or "its defaults"))
     add("")
     add("Every figure is the mean ± standard deviation over the seeds that ran (n in the last column). "
         "\"best peer\" = the peer configuration with the lowest mean true error on that mesh and regime; "
@@ -1181,13 +1224,13 @@ def check_smoke(records, results_dir, charts):
                 problems.append("%s did not run or has no true error: %s" % (r["name"], r.get("reason", "")))
             else:
                 log("smoke: %s true error %.3f mm" % (r["name"], value))
-        if r["name"] in POINT_PEERS:
-            variable = POINT_PEERS[r["name"]]
+        if r["name"] in GIVEN_PEERS:
+            variable = GIVEN_PEERS[r["name"]]
             if os.environ.get(variable):
                 value = r["scores"]["true_error"]["mean"] if r["status"] == "ok" else None
                 if not (isinstance(value, (int, float)) and math.isfinite(value)):
                     problems.append("%s did not run or has no true error: %s" % (r["name"], r.get("reason", "")))
-                elif r["scores"].get("min_jacobian_determinant") is not None:
+                elif r["name"] in POINT_PEERS and r["scores"].get("min_jacobian_determinant") is not None:
                     problems.append("%s has a min det J, but it returns no transform" % r["name"])
                 else:
                     log("smoke: %s true error %.3f mm" % (r["name"], value))
@@ -1201,7 +1244,7 @@ def check_smoke(records, results_dir, charts):
     text = open(os.path.join(results_dir, "RESULTS.md")).read()
     if "| true error mean (mm) |" not in text or "| %s | go |" % SMOKE_MESH not in text:
         problems.append("RESULTS.md lacks the go row")
-    for peer, variable in POINT_PEERS.items():
+    for peer, variable in GIVEN_PEERS.items():
         if not os.environ.get(variable) and "| %s | %s | not run: %s not given |" % (SMOKE_MESH, peer, variable) \
                 not in text:
             problems.append("RESULTS.md does not say that %s was not run (%s not given)" % (peer, variable))
@@ -1284,7 +1327,8 @@ def parse_arguments():
     parser.add_argument("--first-seed", type=int, default=1)
     parser.add_argument("--methods", default=",".join(ALL_METHODS), help="ffd-match methods")
     parser.add_argument("--peers", default=",".join(ALL_PEERS),
-                        help="elastix, plastimatch-mi, plastimatch-mse, bcpd (needs BCPD_EXE), nicp (needs NICP_EXE)")
+                        help="elastix, plastimatch-mi, plastimatch-mse, deeds (needs DEEDS_EXE), bcpd (needs BCPD_EXE), "
+                        "nicp (needs NICP_EXE)")
     parser.add_argument("--grid", type=int, default=20, help="control points per axis (default 20)")
     parser.add_argument("--voxel-size", type=float, default=1.0)
     parser.add_argument("--fraction", type=float, default=0.6, help="region = this fraction of each axis")
@@ -1313,14 +1357,14 @@ def parse_arguments():
         options.regimes = "smooth"
         options.seeds = 1
         options.methods = "go,mrf,par,go+par,mrf+par,go+cpd"
-        options.peers = ("elastix," if shutil.which("elastix") else "") + ",".join(POINT_PEERS)
+        options.peers = ("elastix," if shutil.which("elastix") else "") + ",".join(GIVEN_PEERS)
         options.grid = 8
         options.voxel_size = 2.0
         options.note = options.note or (
             "Smoke run: one generated torus, grid 8, 2 mm voxels, 1 seed, smooth regime, every method, elastix "
-            "(when installed: %s) and the point-set peers (when given: %s)." % (
+            "(when installed: %s) and the peers given by a variable (when given: %s)." % (
                 "yes" if shutil.which("elastix") else "no",
-                ", ".join("%s %s" % (v, "yes" if os.environ.get(v) else "no") for v in POINT_PEERS.values())))
+                ", ".join("%s %s" % (v, "yes" if os.environ.get(v) else "no") for v in GIVEN_PEERS.values())))
     if options.smoke_posed:
         options.smoke = True  # the smoke case's iteration counts for peers
         options.meshes = SMOKE_POSED_MESH
@@ -1349,7 +1393,7 @@ def parse_arguments():
     options.bcpd_options = BCPD_OPTIONS
     options.bcpd_posed_options = BCPD_POSED_OPTIONS
     options.pose_stage = POSE_STAGE
-    options.point_peer_programs = {peer: os.environ.get(variable) or None for peer, variable in POINT_PEERS.items()}
+    options.point_peer_programs = {peer: os.environ.get(variable) or None for peer, variable in GIVEN_PEERS.items()}
     return options
 
 
@@ -1460,7 +1504,9 @@ def main():
                     record = run_method(case, method, tools, options)
                     records.append(record)
                     log("  %-16s %s" % (method, describe(record)))
-                image_peers = [p for p in options.peers if p in IMAGE_PEERS]
+                image_peers = [p for p in options.peers if p in IMAGE_PEERS
+                               and (p not in GIVEN_IMAGE_PEERS or os.environ.get(GIVEN_IMAGE_PEERS[p]))]
+                images = None  # the given image peers that are not given need none
                 if image_peers:
                     images = peer_images(case, case["folder"], tools, options.voxel_size, options.threads,
                                          options.smoke)
