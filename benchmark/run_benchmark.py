@@ -1327,8 +1327,8 @@ def parse_arguments():
     parser.add_argument("--first-seed", type=int, default=1)
     parser.add_argument("--methods", default=",".join(ALL_METHODS), help="ffd-match methods")
     parser.add_argument("--peers", default=",".join(ALL_PEERS),
-                        help="elastix, plastimatch-mi, plastimatch-mse, deeds (needs DEEDS_EXE), bcpd (needs BCPD_EXE), "
-                        "nicp (needs NICP_EXE)")
+                        help="elastix, plastimatch-mi, plastimatch-mse, deeds (needs DEEDS_EXE), "
+                        "bcpd (needs BCPD_EXE), nicp (needs NICP_EXE)")
     parser.add_argument("--grid", type=int, default=20, help="control points per axis (default 20)")
     parser.add_argument("--voxel-size", type=float, default=1.0)
     parser.add_argument("--fraction", type=float, default=0.6, help="region = this fraction of each axis")
