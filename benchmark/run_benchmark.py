@@ -24,7 +24,6 @@ import subprocess
 import sys
 import tarfile
 import time
-import zlib
 
 import deeds_peer
 import posed_cases
@@ -50,9 +49,9 @@ GIVEN_PEERS = dict(POINT_PEERS, **GIVEN_IMAGE_PEERS)
 ALL_PEERS = IMAGE_PEERS + list(POINT_PEERS)
 # deeds' options after -F, -M and -O, for the benchmark's 1 mm images of about 70^3 voxels: 3 levels of control
 # grids 6, 5 and 4 voxels apart (the module's grid 20 is about 5 voxels apart), searches up to 8, 3 and 2 voxels.
-# Its own defaults (5 levels, grids 8x7x6x5x4, searches up to 40 voxels, for abdominal CT) and a smoother set
-# ended further from the truth on all 8 seed-1 cases (benchmark/README.md, "deeds"). FFD_DEEDS_OPTIONS replaces
-# them ("" for its defaults).
+# Its own defaults (5 levels, grids 8x7x6x5x4, searches up to 40 voxels, for abdominal CT) ended further from the
+# truth on all 8 seed-1 cases, a smoother set on average (benchmark/README.md, "deeds"). FFD_DEEDS_OPTIONS
+# replaces them ("" for its defaults).
 DEEDS_OPTIONS = os.environ.get("FFD_DEEDS_OPTIONS", "-l 3 -G 6x5x4 -L 4x3x2 -Q 2x1x1")
 # BCPD's settings for roughly aligned shapes (-g0.1 -ux as its README recommends them; outlier probability 0.1,
 # beta 1.2, lambda 50; similarity + non-rigid) with its variational-Bayes acceleration (Nystrom + KD tree, the
