@@ -676,6 +676,7 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::RunLevel(unsigned 
   auto                solver = MRFLabelingSolver::New();
   solver->SetAlgorithm(m_Solver);
   solver->SetMaximumNumberOfCycles(m_NumberOfSolverCycles);
+  solver->ReuseSpanningTreeOn(); // the level's first iteration chooses the tree
   solver->SetNumberOfNodes(numberOfNodes);
   for (const auto & edge : edges)
   {

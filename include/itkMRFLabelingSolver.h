@@ -221,6 +221,15 @@ public:
   /** Edge terms made submodular by truncation during the last Solve(). */
   itkGetConstMacro(NumberOfTruncatedTerms, SizeValueType);
 
+  /** Whether a SpanningTree Solve() keeps the spanning forest of the previous one instead of choosing it again from
+   * the new unary costs, as long as the graph is unchanged (SetNumberOfNodes(), AddEdge() and ClearEdges() discard
+   * it). For a sequence of problems on one graph whose data change little from one to the next, such as the
+   * iterations of a registration level (deeds builds its tree once per level); the minimum found is still exact on
+   * the kept forest. Default: Off. */
+  itkSetMacro(ReuseSpanningTree, bool);
+  itkGetConstMacro(ReuseSpanningTree, bool);
+  itkBooleanMacro(ReuseSpanningTree);
+
   /** Edges (indices into GetEdges(), ascending) of the spanning forest of the last SpanningTree Solve(). */
   const std::vector<SizeValueType> &
   GetSpanningTreeEdges() const
@@ -294,6 +303,7 @@ private:
   SizeValueType                           m_NumberOfTruncatedTerms{ 0 };
   std::vector<std::vector<SizeValueType>> m_NodeEdges{};
   std::vector<SizeValueType>              m_SpanningTreeEdges{};
+  bool                                    m_ReuseSpanningTree{ false };
   double                                  m_QuadraticWeight{ -1.0 }; // < 0: the function is used
   std::vector<VectorType>                 m_LabelVectors{};
   std::vector<VectorType>                 m_EdgeOffsets{};

@@ -199,6 +199,7 @@ MRFLabelingSolver::SetNumberOfNodes(SizeValueType numberOfNodes)
   m_NumberOfNodes = numberOfNodes;
   m_UnaryCosts.clear();
   m_Edges.clear();
+  m_SpanningTreeEdges.clear();
   this->Modified();
 }
 
@@ -234,6 +235,7 @@ MRFLabelingSolver::AddEdge(SizeValueType first, SizeValueType second)
     itkExceptionMacro(<< "Invalid edge (" << first << ", " << second << ") for " << m_NumberOfNodes << " nodes");
   }
   m_Edges.emplace_back(first, second);
+  m_SpanningTreeEdges.clear();
   this->Modified();
   return m_Edges.size() - 1;
 }
@@ -242,6 +244,7 @@ void
 MRFLabelingSolver::ClearEdges()
 {
   m_Edges.clear();
+  m_SpanningTreeEdges.clear();
   this->Modified();
 }
 
@@ -648,7 +651,10 @@ MRFLabelingSolver::SolveSpanningTree(LabelingType & labeling)
 {
   const LabelingType start = labeling;
   const double       startEnergy = this->ComputeEnergy(labeling);
-  this->ComputeSpanningTree();
+  if (!m_ReuseSpanningTree || m_SpanningTreeEdges.empty())
+  {
+    this->ComputeSpanningTree();
+  }
 
   // Root each tree of the forest at its first node; order the nodes breadth first.
   std::vector<std::vector<SizeValueType>> treeEdgesOf(m_NumberOfNodes);
@@ -865,6 +871,7 @@ MRFLabelingSolver::PrintSelf(std::ostream & os, Indent indent) const
   os << indent << "NumberOfAcceptedMoves: " << m_NumberOfAcceptedMoves << std::endl;
   os << indent << "NumberOfTruncatedTerms: " << m_NumberOfTruncatedTerms << std::endl;
   os << indent << "SpanningTreeEdges: " << m_SpanningTreeEdges.size() << std::endl;
+  os << indent << "ReuseSpanningTree: " << (m_ReuseSpanningTree ? "On" : "Off") << std::endl;
   os << indent << "NodeEdges: " << m_NodeEdges.size() << std::endl;
 }
 } // namespace itk

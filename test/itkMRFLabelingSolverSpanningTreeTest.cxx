@@ -20,6 +20,7 @@
 #include "itkMRFLabelingSolver.h"
 #include "itkMRFLabelingSolverTestHelpers.h"
 #include "itkTestingMacros.h"
+#include <algorithm>
 #include <chrono>
 #include <numeric>
 #include <random>
@@ -297,6 +298,83 @@ itkMRFLabelingSolverSpanningTreeTest(int argc, char * argv[])
     std::cout << "Chain of 3000 nodes, 6 labels: spanning tree " << treeEnergy << ", dynamic programming " << programmed
               << std::endl;
     ITK_TEST_EXPECT_TRUE(std::abs(treeEnergy - programmed) <= 1e-9 * std::abs(programmed));
+  }
+
+  // ReuseSpanningTree: the next Solve() keeps the forest chosen from the first unary costs, and its minimum with new
+  // costs (no ICM sweep) is the exhaustive minimum of the energy restricted to that forest; a change of the graph
+  // discards the forest, and Off chooses it again from the new costs.
+  {
+    const itk::SizeValueType side = 3;
+    const unsigned int       labels = 3;
+    EdgeList                 edges;
+    for (itk::SizeValueType y = 0; y < side; ++y)
+    {
+      for (itk::SizeValueType x = 0; x < side; ++x)
+      {
+        if (x + 1 < side)
+        {
+          edges.emplace_back(x + side * y, x + 1 + side * y);
+        }
+        if (y + 1 < side)
+        {
+          edges.emplace_back(x + side * y, x + side * (y + 1));
+        }
+      }
+    }
+    const auto first = MakeTableProblem(random, side * side, labels, edges);
+    auto       second = MakeTableProblem(random, side * side, labels, edges);
+    second.Tables = first.Tables;
+    auto reusing = first.MakeSolver(AlgorithmEnum::SpanningTree);
+    ITK_TEST_SET_GET_BOOLEAN(reusing, ReuseSpanningTree, true);
+    reusing->SetMaximumNumberOfCycles(1);
+    SolverType::LabelingType labeling(first.Nodes, 0);
+    Solve(reusing, labeling);
+    const std::vector<itk::SizeValueType> firstTree = reusing->GetSpanningTreeEdges();
+    auto                                  fresh = second.MakeSolver(AlgorithmEnum::SpanningTree);
+    SolverType::LabelingType              freshLabeling(second.Nodes, 0);
+    Solve(fresh, freshLabeling);
+    const std::vector<itk::SizeValueType> secondTree = fresh->GetSpanningTreeEdges();
+    ITK_TEST_EXPECT_TRUE(firstTree != secondTree); // the two cost tables choose different trees
+
+    reusing->SetUnaryCosts(second.Unary);
+    std::fill(labeling.begin(), labeling.end(), 0);
+    const double reused = Solve(reusing, labeling);
+    ITK_TEST_EXPECT_TRUE(reusing->GetSpanningTreeEdges() == firstTree);
+    TableProblem onTree = second;
+    onTree.Edges.clear();
+    onTree.Tables.clear();
+    for (const itk::SizeValueType k : firstTree)
+    {
+      onTree.Edges.push_back(second.Edges[k]);
+      onTree.Tables.push_back(second.Tables[k]);
+    }
+    auto                     exhaustive = onTree.MakeSolver(AlgorithmEnum::Exhaustive);
+    SolverType::LabelingType optimum;
+    const double             treeMinimum = Solve(exhaustive, optimum);
+    auto                     restricted = onTree.MakeSolver(AlgorithmEnum::Exhaustive);
+    std::cout << "Reused spanning tree: energy on the tree " << restricted->ComputeEnergy(labeling)
+              << ", exhaustive minimum on the tree " << treeMinimum << ", on the grid " << reused << std::endl;
+    ITK_TEST_EXPECT_TRUE(std::abs(restricted->ComputeEnergy(labeling) - treeMinimum) <= 1e-9);
+
+    // A graph change discards the kept forest: the same edges added again give the fresh solver's tree.
+    reusing->ClearEdges();
+    for (const auto & edge : edges)
+    {
+      reusing->AddEdge(edge.first, edge.second);
+    }
+    ITK_TEST_EXPECT_TRUE(reusing->GetSpanningTreeEdges().empty());
+    Solve(reusing, labeling);
+    ITK_TEST_EXPECT_TRUE(reusing->GetSpanningTreeEdges() == secondTree);
+    reusing->SetNumberOfNodes(second.Nodes);
+    ITK_TEST_EXPECT_TRUE(reusing->GetSpanningTreeEdges().empty());
+
+    // Off: each Solve() chooses the tree from its own costs.
+    auto choosing = first.MakeSolver(AlgorithmEnum::SpanningTree);
+    choosing->SetReuseSpanningTree(false);
+    Solve(choosing, labeling);
+    choosing->SetUnaryCosts(second.Unary);
+    Solve(choosing, labeling);
+    ITK_TEST_EXPECT_TRUE(choosing->GetSpanningTreeEdges() == secondTree);
   }
 
   // The quadratic model w |o_k + v_a - v_b|^2 gives the same energies as the same costs through a function, and the
