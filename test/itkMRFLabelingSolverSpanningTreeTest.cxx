@@ -304,25 +304,10 @@ itkMRFLabelingSolverSpanningTreeTest(int argc, char * argv[])
   // costs (no ICM sweep) is the exhaustive minimum of the energy restricted to that forest; a change of the graph
   // discards the forest, and Off chooses it again from the new costs.
   {
-    const itk::SizeValueType side = 3;
-    const unsigned int       labels = 3;
-    EdgeList                 edges;
-    for (itk::SizeValueType y = 0; y < side; ++y)
-    {
-      for (itk::SizeValueType x = 0; x < side; ++x)
-      {
-        if (x + 1 < side)
-        {
-          edges.emplace_back(x + side * y, x + 1 + side * y);
-        }
-        if (y + 1 < side)
-        {
-          edges.emplace_back(x + side * y, x + side * (y + 1));
-        }
-      }
-    }
-    const auto first = MakeTableProblem(random, side * side, labels, edges);
-    auto       second = MakeTableProblem(random, side * side, labels, edges);
+    const unsigned int labels = 3;
+    const EdgeList     edges = itk::testing::MRFGridEdges(2); // a cube of 8 nodes
+    const auto         first = MakeTableProblem(random, 8, labels, edges);
+    auto               second = MakeTableProblem(random, 8, labels, edges);
     second.Tables = first.Tables;
     auto reusing = first.MakeSolver(AlgorithmEnum::SpanningTree);
     ITK_TEST_SET_GET_BOOLEAN(reusing, ReuseSpanningTree, true);
