@@ -278,6 +278,46 @@ private:
   void
   SweepICM(LabelingType & labeling, unsigned int maximumNumberOfSweeps);
 
+  /** The edges of each node in increasing index order (compressed rows), built once per graph. */
+  void
+  UpdateNodeEdges();
+
+  /** The edges of node p (after UpdateNodeEdges()). */
+  struct EdgeRange
+  {
+    const SizeValueType * First;
+    const SizeValueType * Last;
+    const SizeValueType *
+    begin() const
+    {
+      return First;
+    }
+    const SizeValueType *
+    end() const
+    {
+      return Last;
+    }
+    size_t
+    size() const
+    {
+      return static_cast<size_t>(Last - First);
+    }
+  };
+  EdgeRange
+  NodeEdges(SizeValueType p) const
+  {
+    return { m_NodeEdgeIndices.data() + m_NodeEdgeOffsets[p], m_NodeEdgeIndices.data() + m_NodeEdgeOffsets[p + 1] };
+  }
+
+  /** Discards what is derived from the graph (the node edges and the spanning forest). */
+  void
+  ClearGraphCaches()
+  {
+    m_NodeEdgeOffsets.clear();
+    m_NodeEdgeIndices.clear();
+    m_SpanningTreeEdges.clear();
+  }
+
   /** Fills m_SpanningTreeEdges with a minimum spanning forest of the edges. */
   void
   ComputeSpanningTree();
@@ -288,25 +328,26 @@ private:
   double
   SolveExhaustive(LabelingType & labeling);
 
-  SizeValueType                           m_NumberOfNodes{ 0 };
-  LabelType                               m_NumberOfLabels{ 1 };
-  std::vector<double>                     m_UnaryCosts{};
-  std::vector<EdgeType>                   m_Edges{};
-  PairwiseFunctionType                    m_PairwiseFunction{};
-  AlgorithmEnum                           m_Algorithm{ AlgorithmEnum::AlphaExpansion };
-  unsigned int                            m_MaximumNumberOfCycles{ 10 };
-  double                                  m_MaximumRunTime{ 0.0 };
-  bool                                    m_TimeLimitReached{ false };
-  std::chrono::steady_clock::time_point   m_StartTime{};
-  unsigned int                            m_NumberOfCyclesPerformed{ 0 };
-  SizeValueType                           m_NumberOfAcceptedMoves{ 0 };
-  SizeValueType                           m_NumberOfTruncatedTerms{ 0 };
-  std::vector<std::vector<SizeValueType>> m_NodeEdges{};
-  std::vector<SizeValueType>              m_SpanningTreeEdges{};
-  bool                                    m_ReuseSpanningTree{ false };
-  double                                  m_QuadraticWeight{ -1.0 }; // < 0: the function is used
-  std::vector<VectorType>                 m_LabelVectors{};
-  std::vector<VectorType>                 m_EdgeOffsets{};
+  SizeValueType                         m_NumberOfNodes{ 0 };
+  LabelType                             m_NumberOfLabels{ 1 };
+  std::vector<double>                   m_UnaryCosts{};
+  std::vector<EdgeType>                 m_Edges{};
+  PairwiseFunctionType                  m_PairwiseFunction{};
+  AlgorithmEnum                         m_Algorithm{ AlgorithmEnum::AlphaExpansion };
+  unsigned int                          m_MaximumNumberOfCycles{ 10 };
+  double                                m_MaximumRunTime{ 0.0 };
+  bool                                  m_TimeLimitReached{ false };
+  std::chrono::steady_clock::time_point m_StartTime{};
+  unsigned int                          m_NumberOfCyclesPerformed{ 0 };
+  SizeValueType                         m_NumberOfAcceptedMoves{ 0 };
+  SizeValueType                         m_NumberOfTruncatedTerms{ 0 };
+  std::vector<SizeValueType> m_NodeEdgeOffsets{}; // node p's edges: m_NodeEdgeIndices[offsets[p], offsets[p+1])
+  std::vector<SizeValueType> m_NodeEdgeIndices{};
+  std::vector<SizeValueType> m_SpanningTreeEdges{};
+  bool                       m_ReuseSpanningTree{ false };
+  double                     m_QuadraticWeight{ -1.0 }; // < 0: the function is used
+  std::vector<VectorType>    m_LabelVectors{};
+  std::vector<VectorType>    m_EdgeOffsets{};
 };
 } // namespace itk
 

@@ -199,7 +199,7 @@ MRFLabelingSolver::SetNumberOfNodes(SizeValueType numberOfNodes)
   m_NumberOfNodes = numberOfNodes;
   m_UnaryCosts.clear();
   m_Edges.clear();
-  m_SpanningTreeEdges.clear();
+  this->ClearGraphCaches();
   this->Modified();
 }
 
@@ -235,7 +235,7 @@ MRFLabelingSolver::AddEdge(SizeValueType first, SizeValueType second)
     itkExceptionMacro(<< "Invalid edge (" << first << ", " << second << ") for " << m_NumberOfNodes << " nodes");
   }
   m_Edges.emplace_back(first, second);
-  m_SpanningTreeEdges.clear();
+  this->ClearGraphCaches();
   this->Modified();
   return m_Edges.size() - 1;
 }
@@ -244,7 +244,7 @@ void
 MRFLabelingSolver::ClearEdges()
 {
   m_Edges.clear();
-  m_SpanningTreeEdges.clear();
+  this->ClearGraphCaches();
   this->Modified();
 }
 
@@ -371,12 +371,7 @@ double
 MRFLabelingSolver::SolveAlphaExpansion(LabelingType & labeling)
 {
   ExpansionGraph graph(m_NumberOfNodes, m_Edges);
-  m_NodeEdges.assign(m_NumberOfNodes, {});
-  for (SizeValueType k = 0; k < m_Edges.size(); ++k)
-  {
-    m_NodeEdges[m_Edges[k].first].push_back(k);
-    m_NodeEdges[m_Edges[k].second].push_back(k);
-  }
+  this->UpdateNodeEdges();
   // The pairwise cost of every edge under the current labeling, kept up to date.
   std::vector<double> edgeCost(m_Edges.size());
   for (SizeValueType k = 0; k < m_Edges.size(); ++k)
@@ -468,7 +463,7 @@ MRFLabelingSolver::SolveAlphaExpansion(LabelingType & labeling)
       touchedCosts.clear();
       for (const SizeValueType p : changedNodes)
       {
-        for (const SizeValueType k : m_NodeEdges[p])
+        for (const SizeValueType k : this->NodeEdges(p))
         {
           if (edgeStamp[k] == stamp)
           {
@@ -504,7 +499,6 @@ MRFLabelingSolver::SolveAlphaExpansion(LabelingType & labeling)
       break;
     }
   }
-  m_NodeEdges.clear();
   // Recomputed exactly, free of the accumulated rounding of the updates.
   return this->ComputeEnergy(labeling);
 }
@@ -519,12 +513,7 @@ MRFLabelingSolver::SolveICM(LabelingType & labeling)
 void
 MRFLabelingSolver::SweepICM(LabelingType & labeling, unsigned int maximumNumberOfSweeps)
 {
-  m_NodeEdges.assign(m_NumberOfNodes, {});
-  for (SizeValueType k = 0; k < m_Edges.size(); ++k)
-  {
-    m_NodeEdges[m_Edges[k].first].push_back(k);
-    m_NodeEdges[m_Edges[k].second].push_back(k);
-  }
+  this->UpdateNodeEdges();
   const bool          quadratic = m_QuadraticWeight >= 0.0;
   std::vector<double> labelSquaredNorms(quadratic ? m_NumberOfLabels : 0);
   for (LabelType label = 0; quadratic && label < m_NumberOfLabels; ++label)
@@ -545,7 +534,7 @@ MRFLabelingSolver::SweepICM(LabelingType & labeling, unsigned int maximumNumberO
       double sumSquaredC = 0.0;
       if (quadratic)
       {
-        for (const SizeValueType k : m_NodeEdges[p])
+        for (const SizeValueType k : this->NodeEdges(p))
         {
           const EdgeType &   edge = m_Edges[k];
           const VectorType & o = m_EdgeOffsets[k];
@@ -559,7 +548,7 @@ MRFLabelingSolver::SweepICM(LabelingType & labeling, unsigned int maximumNumberO
           }
         }
       }
-      const double degree = static_cast<double>(m_NodeEdges[p].size());
+      const double degree = static_cast<double>(this->NodeEdges(p).size());
       const auto   localEnergy = [&, p](LabelType label) {
         double value = m_UnaryCosts[p * m_NumberOfLabels + label];
         if (quadratic)
@@ -568,7 +557,7 @@ MRFLabelingSolver::SweepICM(LabelingType & labeling, unsigned int maximumNumberO
           return value + m_QuadraticWeight * (degree * labelSquaredNorms[label] +
                                               2.0 * (v[0] * sumC[0] + v[1] * sumC[1] + v[2] * sumC[2]) + sumSquaredC);
         }
-        for (const SizeValueType k : m_NodeEdges[p])
+        for (const SizeValueType k : this->NodeEdges(p))
         {
           const EdgeType & edge = m_Edges[k];
           value += edge.first == p ? this->Pairwise(k, label, labeling[edge.second])
@@ -598,7 +587,32 @@ MRFLabelingSolver::SweepICM(LabelingType & labeling, unsigned int maximumNumberO
       break;
     }
   }
-  m_NodeEdges.clear();
+}
+
+void
+MRFLabelingSolver::UpdateNodeEdges()
+{
+  if (m_NodeEdgeOffsets.size() == m_NumberOfNodes + 1)
+  {
+    return;
+  }
+  m_NodeEdgeOffsets.assign(m_NumberOfNodes + 1, 0);
+  for (const EdgeType & edge : m_Edges)
+  {
+    ++m_NodeEdgeOffsets[edge.first + 1];
+    ++m_NodeEdgeOffsets[edge.second + 1];
+  }
+  for (SizeValueType p = 0; p < m_NumberOfNodes; ++p)
+  {
+    m_NodeEdgeOffsets[p + 1] += m_NodeEdgeOffsets[p];
+  }
+  m_NodeEdgeIndices.resize(2 * m_Edges.size());
+  std::vector<SizeValueType> next(m_NodeEdgeOffsets.begin(), m_NodeEdgeOffsets.end() - 1);
+  for (SizeValueType k = 0; k < m_Edges.size(); ++k)
+  {
+    m_NodeEdgeIndices[next[m_Edges[k].first]++] = k;
+    m_NodeEdgeIndices[next[m_Edges[k].second]++] = k;
+  }
 }
 
 void
@@ -872,6 +886,6 @@ MRFLabelingSolver::PrintSelf(std::ostream & os, Indent indent) const
   os << indent << "NumberOfTruncatedTerms: " << m_NumberOfTruncatedTerms << std::endl;
   os << indent << "SpanningTreeEdges: " << m_SpanningTreeEdges.size() << std::endl;
   os << indent << "ReuseSpanningTree: " << (m_ReuseSpanningTree ? "On" : "Off") << std::endl;
-  os << indent << "NodeEdges: " << m_NodeEdges.size() << std::endl;
+  os << indent << "NodeEdgeOffsets: " << m_NodeEdgeOffsets.size() << std::endl;
 }
 } // namespace itk
