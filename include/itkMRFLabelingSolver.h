@@ -316,9 +316,12 @@ private:
     m_NodeEdgeOffsets.clear();
     m_NodeEdgeIndices.clear();
     m_SpanningTreeEdges.clear();
+    m_SpanningTreeOrder.clear();
+    m_SpanningTreeParentEdge.clear();
   }
 
-  /** Fills m_SpanningTreeEdges with a minimum spanning forest of the edges. */
+  /** Fills m_SpanningTreeEdges with a minimum spanning forest of the edges, and its breadth-first node order and
+   * parent edges. */
   void
   ComputeSpanningTree();
 
@@ -344,6 +347,8 @@ private:
   std::vector<SizeValueType> m_NodeEdgeOffsets{}; // node p's edges: m_NodeEdgeIndices[offsets[p], offsets[p+1])
   std::vector<SizeValueType> m_NodeEdgeIndices{};
   std::vector<SizeValueType> m_SpanningTreeEdges{};
+  std::vector<SizeValueType> m_SpanningTreeOrder{};      // the forest's nodes, breadth first from each root
+  std::vector<SizeValueType> m_SpanningTreeParentEdge{}; // per node, the edge to its parent (none for a root)
   bool                       m_ReuseSpanningTree{ false };
   double                     m_QuadraticWeight{ -1.0 }; // < 0: the function is used
   std::vector<VectorType>    m_LabelVectors{};

@@ -658,6 +658,39 @@ MRFLabelingSolver::ComputeSpanningTree()
       m_SpanningTreeEdges.push_back(k);
     }
   }
+
+  // Root each tree of the forest at its first node; order the nodes breadth first (a node's tree edges in
+  // increasing index order), each with the edge to its parent.
+  this->UpdateNodeEdges();
+  constexpr SizeValueType   none = std::numeric_limits<SizeValueType>::max();
+  std::vector<std::uint8_t> visited(m_NumberOfNodes, 0);
+  m_SpanningTreeParentEdge.assign(m_NumberOfNodes, none);
+  m_SpanningTreeOrder.clear();
+  m_SpanningTreeOrder.reserve(m_NumberOfNodes);
+  for (SizeValueType root = 0; root < m_NumberOfNodes; ++root)
+  {
+    if (visited[root])
+    {
+      continue;
+    }
+    visited[root] = 1;
+    size_t head = m_SpanningTreeOrder.size();
+    m_SpanningTreeOrder.push_back(root);
+    for (; head < m_SpanningTreeOrder.size(); ++head)
+    {
+      const SizeValueType p = m_SpanningTreeOrder[head];
+      for (const SizeValueType k : this->NodeEdges(p))
+      {
+        const SizeValueType q = m_Edges[k].first == p ? m_Edges[k].second : m_Edges[k].first;
+        if (inTree[k] && !visited[q])
+        {
+          visited[q] = 1;
+          m_SpanningTreeParentEdge[q] = k;
+          m_SpanningTreeOrder.push_back(q);
+        }
+      }
+    }
+  }
 }
 
 double
@@ -670,42 +703,9 @@ MRFLabelingSolver::SolveSpanningTree(LabelingType & labeling)
     this->ComputeSpanningTree();
   }
 
-  // Root each tree of the forest at its first node; order the nodes breadth first.
-  std::vector<std::vector<SizeValueType>> treeEdgesOf(m_NumberOfNodes);
-  for (const SizeValueType k : m_SpanningTreeEdges)
-  {
-    treeEdgesOf[m_Edges[k].first].push_back(k);
-    treeEdgesOf[m_Edges[k].second].push_back(k);
-  }
-  constexpr SizeValueType    none = std::numeric_limits<SizeValueType>::max();
-  std::vector<SizeValueType> parentEdge(m_NumberOfNodes, none);
-  std::vector<std::uint8_t>  visited(m_NumberOfNodes, 0);
-  std::vector<SizeValueType> order;
-  order.reserve(m_NumberOfNodes);
-  for (SizeValueType root = 0; root < m_NumberOfNodes; ++root)
-  {
-    if (visited[root])
-    {
-      continue;
-    }
-    visited[root] = 1;
-    size_t head = order.size();
-    order.push_back(root);
-    for (; head < order.size(); ++head)
-    {
-      const SizeValueType p = order[head];
-      for (const SizeValueType k : treeEdgesOf[p])
-      {
-        const SizeValueType q = m_Edges[k].first == p ? m_Edges[k].second : m_Edges[k].first;
-        if (!visited[q])
-        {
-          visited[q] = 1;
-          parentEdge[q] = k;
-          order.push_back(q);
-        }
-      }
-    }
-  }
+  constexpr SizeValueType none = std::numeric_limits<SizeValueType>::max();
+  const auto &            order = m_SpanningTreeOrder;
+  const auto &            parentEdge = m_SpanningTreeParentEdge;
 
   // Upward pass (min-sum): belief(c) = unary(c) + the messages of c's children; the message to the parent is
   // min over c's label of belief(c) + pairwise, with the minimizing label kept for the downward pass.
