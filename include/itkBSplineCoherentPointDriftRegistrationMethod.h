@@ -47,9 +47,9 @@ namespace itk
  * (B^T diag(P1) B + lambda (sigma/h)^2 s R) c = B^T (P X - diag(P1) Y), with B the B-spline weights of the target
  * samples (64 per sample), R the discrete bending energy of the control lattice (second differences), h the control
  * spacing and s the matched mass per thousand samples (so that lambda = RegularizationWeight does not depend on
- * the scale of the meshes nor on the number of samples). It is assembled into a sparsity pattern fixed for the run
- * (detail::BSplineNormalMatrixAssembler) and solved by Jacobi-preconditioned conjugate gradients, the three
- * coordinates side by side (detail::SolveSparseConjugateGradient), warm-started from the previous iteration (a
+ * the scale of the meshes nor on the number of samples). It is solved by Jacobi-preconditioned conjugate gradients,
+ * the three coordinates side by side (detail::SolveConjugateGradient), with the matrix applied sample by sample
+ * without being formed (detail::BSplineSampleNormalOperator), warm-started from the previous iteration (a
  * generalized EM step). sigma starts at InitialSigma, follows the EM update and is
  * kept above MinimumSigma; by default 1.1 and 0.25 control spacings from the identity, and from an initial
  * transform (a voxel method's result) 10 x the RMS distance from the mapped target samples to their nearest source

@@ -20,7 +20,7 @@
 
 #include "itkBSplineCoherentPointDriftRegistrationMethod.h"
 #include "itkBSplineLatticeRegularization.h"
-#include "itkBSplineNormalMatrixAssembler.h"
+#include "itkBSplineSampleNormalOperator.h"
 #include "itkSparseMultipleRightHandConjugateGradient.h"
 #include "itkContinuousIndex.h"
 #include "itkCubicBSplineKernel.h"
@@ -63,10 +63,50 @@ DrawSampleIndices(std::vector<IdentifierType> candidates, unsigned int wanted, i
   return candidates;
 }
 
+/** The cubic B-spline support of \c point on the control lattice \c coefficients (a coefficient image of the
+ * transform), separably: the support is the 4 x 4 x 4 block of coefficients from the corner \c first (an index
+ * i + n0 (j + n1 k) in a BSplineTransform's per-dimension parameter layout), with the weight
+ * weights[a] weights[4 + b] weights[8 + c] at (i + a, j + b, k + c). False, and nothing written, when the support
+ * leaves the lattice (the point is outside the transform's domain). */
+template <typename TImage, typename TPoint>
+bool
+BSplineSeparableSupport(const TImage *           coefficients,
+                        const TPoint &           point,
+                        unsigned int &           first,
+                        std::array<double, 12> & weights)
+{
+  ContinuousIndex<double, 3> u;
+  coefficients->TransformPhysicalPointToContinuousIndex(point, u);
+  const auto          size = coefficients->GetLargestPossibleRegion().GetSize();
+  std::array<long, 3> corner{};
+  for (unsigned int d = 0; d < 3; ++d)
+  {
+    if (!(std::abs(u[d]) < 1e9)) // far outside (or not a number): no support, and no overflowing conversion
+    {
+      return false;
+    }
+    corner[d] = static_cast<long>(std::floor(u[d])) - 1;
+    if (corner[d] < 0 || corner[d] + 3 >= static_cast<long>(size[d]))
+    {
+      return false;
+    }
+  }
+  for (unsigned int d = 0; d < 3; ++d)
+  {
+    for (long a = 0; a < 4; ++a)
+    {
+      weights[4 * d + a] = CubicBSpline(u[d] - static_cast<double>(corner[d] + a));
+    }
+  }
+  first = static_cast<unsigned int>(corner[0] +
+                                    static_cast<long>(size[0]) * (corner[1] + static_cast<long>(size[1]) * corner[2]));
+  return true;
+}
+
 /** The 64 weights and coefficient indices (in a BSplineTransform's per-dimension parameter layout) of the cubic
  * B-spline support of \c point on the control lattice \c coefficients (a coefficient image of the transform):
- * T(point) = point + sum_j weights[j] c[indices[j]]. False, and nothing written, when the support leaves the lattice
- * (the point is outside the transform's domain). */
+ * T(point) = point + sum_j weights[j] c[indices[j]], the first axis fastest. False, and nothing written, when the
+ * support leaves the lattice (the point is outside the transform's domain). */
 template <typename TImage, typename TPoint>
 bool
 BSplineSupportWeights(const TImage *                 coefficients,
@@ -74,35 +114,22 @@ BSplineSupportWeights(const TImage *                 coefficients,
                       std::array<double, 64> &       weights,
                       std::array<unsigned int, 64> & indices)
 {
-  ContinuousIndex<double, 3> u;
-  coefficients->TransformPhysicalPointToContinuousIndex(point, u);
-  const auto          size = coefficients->GetLargestPossibleRegion().GetSize();
-  std::array<long, 3> first{};
-  for (unsigned int d = 0; d < 3; ++d)
+  unsigned int           first = 0;
+  std::array<double, 12> separable{};
+  if (!BSplineSeparableSupport(coefficients, point, first, separable))
   {
-    if (!(std::abs(u[d]) < 1e9)) // far outside (or not a number): no support, and no overflowing conversion
-    {
-      return false;
-    }
-    first[d] = static_cast<long>(std::floor(u[d])) - 1;
-    if (first[d] < 0 || first[d] + 3 >= static_cast<long>(size[d]))
-    {
-      return false;
-    }
+    return false;
   }
+  const auto   size = coefficients->GetLargestPossibleRegion().GetSize();
   unsigned int n = 0;
-  for (long c = 0; c < 4; ++c)
+  for (unsigned int c = 0; c < 4; ++c)
   {
-    for (long b = 0; b < 4; ++b)
+    for (unsigned int b = 0; b < 4; ++b)
     {
-      for (long a = 0; a < 4; ++a, ++n)
+      for (unsigned int a = 0; a < 4; ++a, ++n)
       {
-        const long i0 = first[0] + a;
-        const long i1 = first[1] + b;
-        const long i2 = first[2] + c;
-        weights[n] = CubicBSpline(u[0] - i0) * CubicBSpline(u[1] - i1) * CubicBSpline(u[2] - i2);
-        indices[n] =
-          static_cast<unsigned int>(i0 + static_cast<long>(size[0]) * (i1 + static_cast<long>(size[1]) * i2));
+        weights[n] = separable[a] * separable[4 + b] * separable[8 + c];
+        indices[n] = first + a + static_cast<unsigned int>(size[0]) * (b + static_cast<unsigned int>(size[1]) * c);
       }
     }
   }
@@ -288,9 +315,9 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   }
 
   // The samples: target vertices inside the B-spline's domain, source vertices near it.
-  std::vector<PointType>                    y;
-  std::vector<std::array<double, 64>>       weights;
-  std::vector<std::array<unsigned int, 64>> indices;
+  std::vector<PointType>              y;
+  std::vector<unsigned int>           firsts;
+  std::vector<std::array<double, 12>> weights;
   {
     std::vector<IdentifierType> candidates(fixedMesh->GetNumberOfPoints());
     for (IdentifierType i = 0; i < candidates.size(); ++i)
@@ -299,16 +326,16 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     }
     for (const IdentifierType id : detail::DrawSampleIndices(candidates, m_NumberOfFixedSamples, m_RandomSeed))
     {
-      const PointType              p = fixedMesh->GetPoint(id);
-      std::array<double, 64>       w{};
-      std::array<unsigned int, 64> k{};
-      if (!detail::BSplineSupportWeights(coefficients[0].GetPointer(), p, w, k))
+      const PointType        p = fixedMesh->GetPoint(id);
+      unsigned int           first = 0;
+      std::array<double, 12> w{};
+      if (!detail::BSplineSeparableSupport(coefficients[0].GetPointer(), p, first, w))
       {
         continue;
       }
       y.push_back(p);
+      firsts.push_back(first);
       weights.push_back(w);
-      indices.push_back(k);
     }
   }
   const size_t numberOfFixed = y.size();
@@ -361,24 +388,30 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     entries.reserve(numberOfFixed * 64);
     for (size_t m = 0; m < numberOfFixed; ++m)
     {
-      for (unsigned int n = 0; n < 64; ++n)
+      for (unsigned int c = 0; c < 4; ++c)
       {
-        entries.emplace_back(static_cast<int>(m), static_cast<int>(indices[m][n]), weights[m][n]);
+        for (unsigned int b = 0; b < 4; ++b)
+        {
+          for (unsigned int a = 0; a < 4; ++a)
+          {
+            entries.emplace_back(static_cast<int>(m),
+                                 static_cast<int>(firsts[m] + a + gridSize[0] * (b + gridSize[1] * c)),
+                                 weights[m][a] * weights[m][4 + b] * weights[m][8 + c]);
+          }
+        }
       }
     }
     basis.setFromTriplets(entries.begin(), entries.end());
   }
-  // B^T diag(P1) B and the prior R + 1e-3 I share one sparsity pattern: each M-step only adds value arrays.
+  // The M-step's matrix B^T diag(P1) B + s (R + 1e-3 I), applied without being formed.
   SparseMatrix identity(static_cast<Eigen::Index>(numberOfCoefficients),
                         static_cast<Eigen::Index>(numberOfCoefficients));
   identity.setIdentity();
-  const SparseMatrix regularizer =
-    detail::BSplineLatticeBendingMatrix({ gridSize[0], gridSize[1], gridSize[2] }) + 1e-3 * identity;
-  const detail::BSplineNormalMatrixAssembler normalMatrix(
-    { gridSize[0], gridSize[1], gridSize[2] }, indices, weights, regularizer);
-  const Eigen::VectorXd prior = normalMatrix.Align(regularizer);
-  SparseMatrix          system; // Fill gives it the pattern
-  Eigen::VectorXd       dataValues;
+  detail::BSplineSampleNormalOperator normalOperator(
+    { gridSize[0], gridSize[1], gridSize[2] },
+    firsts,
+    weights,
+    detail::BSplineLatticeBendingMatrix({ gridSize[0], gridSize[1], gridSize[2] }) + 1e-3 * identity);
 
   // The coefficients c (one column per dimension) and the mapped samples Y + B c.
   Eigen::MatrixXd coefficient(numberOfCoefficients, Dimension);
@@ -643,7 +676,6 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
         right(m, d) = pulled[m][d] - mass[m] * target(m, d);
       }
     }
-    normalMatrix.Assemble(massVector, dataValues);
     const RowMajorCoefficients rhs = basis.transpose() * right;
     const double               scale = sigma2 / (spacing * spacing) * totalMass / 1000.0;
     Eigen::MatrixXd            solved = coefficient;
@@ -662,11 +694,18 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     };
     for (unsigned int attempt = 0;; ++attempt)
     {
-      normalMatrix.Fill(dataValues + (lambda * scale) * prior, system);
-      // The Dimension right-hand sides side by side: one pass over the matrix per iteration serves all of them.
+      normalOperator.SetWeighting(massVector, lambda * scale);
+      // The Dimension right-hand sides side by side: one pass over the samples per iteration serves all of them.
       RowMajorCoefficients columns = coefficient;
-      detail::SolveSparseConjugateGradient<Dimension>(
-        system, rhs, columns, m_NumberOfSolverIterations, m_SolverTolerance);
+      detail::SolveConjugateGradient<Dimension>(
+        [&normalOperator](const RowMajorCoefficients & in, RowMajorCoefficients & out) {
+          normalOperator.Apply(in, out);
+        },
+        normalOperator.GetDiagonal(),
+        rhs,
+        columns,
+        m_NumberOfSolverIterations,
+        m_SolverTolerance);
       solved = columns;
       // Fold check at the target samples.
       if (minimumDeterminantOf(solved) >= m_MinimumJacobianDeterminant || attempt >= 6)

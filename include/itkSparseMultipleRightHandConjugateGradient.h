@@ -32,52 +32,55 @@ namespace itk
 namespace detail
 {
 /** \file itkSparseMultipleRightHandConjugateGradient.h
- * \brief Jacobi-preconditioned conjugate gradients for A X = B with a symmetric positive definite sparse A and a few
+ * \brief Jacobi-preconditioned conjugate gradients for A X = B with a symmetric positive definite A and a few
  * right-hand sides (columns of B), run side by side.
  *
  * Each column follows its own conjugate-gradient recurrence (the iterates equal those of
  * Eigen::ConjugateGradient with its diagonal preconditioner, column by column, up to rounding), but every iteration
- * reads the matrix once for all columns: the product A P is taken as the row-major transpose of the column-major A
- * (equal, A being symmetric) times a row-major block, so one pass over A's entries serves every column. Where the
- * matrix is larger than the cache, the pass is what costs: three columns cost about one column's time.
+ * applies A once to all columns: where A is a sparse matrix larger than the cache, or a matrix-free operator that
+ * passes over its samples (detail::BSplineSampleNormalOperator), that pass is what costs, and three columns cost
+ * about one column's time.
+ *
+ * SolveConjugateGradient takes A as \c apply(in, out), out = A in on row-major blocks, and its \c diagonal.
+ * SolveSparseConjugateGradient takes A as a sparse matrix: its product is taken as the row-major transpose of the
+ * column-major A (equal, A being symmetric), so one pass over A's entries serves every column.
  *
  * A column stops when its residual norm is below \c tolerance times its right-hand side's norm, or after
  * \c maximumIterations. \c solution holds the starting guess on entry. Returns the largest number of iterations any
  * column took. Throws itk::ExceptionObject when the sizes do not agree or the diagonal is not positive.
  * \ingroup FFDShapeMatching
  */
-template <int TColumns>
+template <int TColumns, typename TApply>
 unsigned int
-SolveSparseConjugateGradient(const Eigen::SparseMatrix<double> &                                      matrix,
-                             const Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor> & rightHandSide,
-                             Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor> &       solution,
-                             unsigned int                                                             maximumIterations,
-                             double                                                                   tolerance)
+SolveConjugateGradient(const TApply &                                                           apply,
+                       const Eigen::VectorXd &                                                  diagonal,
+                       const Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor> & rightHandSide,
+                       Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor> &       solution,
+                       unsigned int                                                             maximumIterations,
+                       double                                                                   tolerance)
 {
   using BlockType = Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor>;
   using RowType = Eigen::Matrix<double, 1, TColumns>;
-  const Eigen::Index size = matrix.rows();
-  if (matrix.cols() != size || rightHandSide.rows() != size || solution.rows() != size)
+  const Eigen::Index size = diagonal.size();
+  if (rightHandSide.rows() != size || solution.rows() != size)
   {
-    itkGenericExceptionMacro(<< "SolveSparseConjugateGradient: a " << matrix.rows() << " x " << matrix.cols()
-                             << " matrix, " << rightHandSide.rows() << " right-hand rows and " << solution.rows()
-                             << " solution rows do not agree");
+    itkGenericExceptionMacro(<< "SolveConjugateGradient: a diagonal of " << size << " entries, " << rightHandSide.rows()
+                             << " right-hand rows and " << solution.rows() << " solution rows do not agree");
   }
   Eigen::VectorXd inverseDiagonal(size);
   for (Eigen::Index n = 0; n < size; ++n)
   {
-    const double diagonal = matrix.coeff(n, n);
-    if (!(diagonal > 0.0))
+    if (!(diagonal[n] > 0.0))
     {
-      itkGenericExceptionMacro(<< "SolveSparseConjugateGradient: diagonal entry " << n << " is " << diagonal
+      itkGenericExceptionMacro(<< "SolveConjugateGradient: diagonal entry " << n << " is " << diagonal[n]
                                << ", not positive");
     }
-    inverseDiagonal[n] = 1.0 / diagonal;
+    inverseDiagonal[n] = 1.0 / diagonal[n];
   }
-  const auto transposed = matrix.transpose(); // row-major view; equal to matrix, which is symmetric
 
-  BlockType residual = rightHandSide;
-  residual.noalias() -= transposed * solution;
+  BlockType product(size, TColumns);
+  apply(solution, product);
+  BlockType     residual = rightHandSide - product;
   const RowType rightNorm2 = rightHandSide.colwise().squaredNorm();
   RowType       threshold;
   for (int c = 0; c < TColumns; ++c)
@@ -94,7 +97,6 @@ SolveSparseConjugateGradient(const Eigen::SparseMatrix<double> &                
 
   BlockType    direction = inverseDiagonal.asDiagonal() * residual;
   RowType      rho = (residual.cwiseProduct(direction)).colwise().sum();
-  BlockType    product(size, TColumns);
   unsigned int iterations = 0;
   for (; iterations < maximumIterations; ++iterations)
   {
@@ -107,7 +109,7 @@ SolveSparseConjugateGradient(const Eigen::SparseMatrix<double> &                
     {
       break;
     }
-    product.noalias() = transposed * direction;
+    apply(direction, product);
     RowType curvature = RowType::Zero();
     for (Eigen::Index n = 0; n < size; ++n)
     {
@@ -151,6 +153,31 @@ SolveSparseConjugateGradient(const Eigen::SparseMatrix<double> &                
     rho = rhoNew;
   }
   return iterations;
+}
+
+/** SolveConjugateGradient with A a sparse symmetric matrix (see the file's description). */
+template <int TColumns>
+unsigned int
+SolveSparseConjugateGradient(const Eigen::SparseMatrix<double> &                                      matrix,
+                             const Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor> & rightHandSide,
+                             Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor> &       solution,
+                             unsigned int                                                             maximumIterations,
+                             double                                                                   tolerance)
+{
+  using BlockType = Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor>;
+  if (matrix.cols() != matrix.rows())
+  {
+    itkGenericExceptionMacro(<< "SolveSparseConjugateGradient: a " << matrix.rows() << " x " << matrix.cols()
+                             << " matrix is not square");
+  }
+  const auto transposed = matrix.transpose(); // row-major view; equal to matrix, which is symmetric
+  return SolveConjugateGradient<TColumns>(
+    [&transposed](const BlockType & in, BlockType & out) { out.noalias() = transposed * in; },
+    Eigen::VectorXd(matrix.diagonal()),
+    rightHandSide,
+    solution,
+    maximumIterations,
+    tolerance);
 }
 } // namespace detail
 } // namespace itk

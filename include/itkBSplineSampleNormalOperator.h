@@ -1,0 +1,208 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkBSplineSampleNormalOperator_h
+#define itkBSplineSampleNormalOperator_h
+
+#include "itkMacro.h"
+
+#include "itk_eigen.h"
+#include ITK_EIGEN(Dense)
+#include ITK_EIGEN(Sparse)
+
+#include <array>
+#include <vector>
+
+namespace itk
+{
+namespace detail
+{
+/** \class BSplineSampleNormalOperator
+ * \brief The product (B^T diag(m) B + s R) X for weighted cubic B-spline samples on a control lattice, without
+ * forming the matrix.
+ *
+ * B holds, per sample, the weights of its cubic B-spline support: a 4 x 4 x 4 block of the lattice (coefficient
+ * index i + n0 (j + n1 k), as in a BSplineTransform's parameters per dimension) from its corner \c first, with the
+ * separable weights wx[a] wy[b] wz[c] (\c weights[a], \c weights[4 + b], \c weights[8 + c], as
+ * detail::BSplineSeparableSupport gives them). m is a mass per sample, R a sparse symmetric regularizer (e.g. a
+ * lattice bending matrix) and s its weight. X has three columns (one per coordinate), side by side in a row-major
+ * block.
+ *
+ * Each product is one pass over the samples (per sample: its block of coefficient rows gathered, weighted by the
+ * sample's mass and scattered back, four contiguous rows at a time) and one over R's rows. That is the normal matrix
+ * of the M-step of a coherent point drift on the coefficients, applied as the conjugate gradients need it: the matrix
+ * itself, which holds every pair of coefficients sharing a sample's support (up to 343 per row), is never built,
+ * and a new mass costs nothing. The result equals Eigen's (B^T diag(m) B + s R) X up to rounding (tested against
+ * it), and GetDiagonal() the matrix's diagonal, for a Jacobi preconditioner.
+ * \ingroup FFDShapeMatching
+ */
+class BSplineSampleNormalOperator
+{
+public:
+  using WeightsType = std::array<double, 12>;
+  using BlockType = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+  using RegularizerType = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+
+  /** The samples' supports (corner \c firsts[m], separable \c weights[m]) on a lattice of \c size coefficients,
+   * and the regularizer (square, one row per coefficient). Throws itk::ExceptionObject when the sizes do not agree
+   * or a support leaves the lattice. The masses start at zero and the regularizer's weight at one. */
+  BSplineSampleNormalOperator(const std::array<size_t, 3> &       size,
+                              const std::vector<unsigned int> &   firsts,
+                              const std::vector<WeightsType> &    weights,
+                              const Eigen::SparseMatrix<double> & regularizer)
+    : m_RowStride(size[0])
+    , m_SliceStride(size[0] * size[1])
+    , m_Firsts(firsts)
+    , m_Weights(weights)
+    , m_Regularizer(regularizer)
+    , m_Mass(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(firsts.size())))
+  {
+    const size_t count = size[0] * size[1] * size[2];
+    if (regularizer.rows() != static_cast<Eigen::Index>(count) || regularizer.cols() != regularizer.rows())
+    {
+      itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: a " << regularizer.rows() << " x " << regularizer.cols()
+                               << " regularizer for " << count << " coefficients");
+    }
+    if (firsts.size() != weights.size())
+    {
+      itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: " << firsts.size() << " supports but " << weights.size()
+                               << " weight sets");
+    }
+    for (size_t m = 0; m < firsts.size(); ++m)
+    {
+      const size_t first = firsts[m];
+      if (first % size[0] + 3 >= size[0] || (first / size[0]) % size[1] + 3 >= size[1] ||
+          first / m_SliceStride + 3 >= size[2])
+      {
+        itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: sample " << m << "'s support leaves the " << size[0]
+                                 << " x " << size[1] << " x " << size[2] << " lattice");
+      }
+    }
+    m_RegularizerDiagonal = m_Regularizer.diagonal();
+  }
+
+  /** The samples' masses m (one per sample) and the regularizer's weight s. */
+  void
+  SetWeighting(const Eigen::VectorXd & mass, double regularizerWeight)
+  {
+    if (mass.size() != static_cast<Eigen::Index>(m_Firsts.size()))
+    {
+      itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: " << mass.size() << " masses for " << m_Firsts.size()
+                               << " samples");
+    }
+    m_Mass = mass;
+    m_RegularizerWeight = regularizerWeight;
+  }
+
+  /** out = (B^T diag(m) B + s R) in. */
+  void
+  Apply(const BlockType & in, BlockType & out) const
+  {
+    if (in.rows() != m_Regularizer.rows())
+    {
+      itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: " << in.rows() << " rows for " << m_Regularizer.rows()
+                               << " coefficients");
+    }
+    out.noalias() = m_Regularizer * in;
+    out *= m_RegularizerWeight;
+    const double * source = in.data();
+    double *       target = out.data();
+    for (size_t m = 0; m < m_Firsts.size(); ++m)
+    {
+      const double mass = m_Mass[static_cast<Eigen::Index>(m)];
+      if (mass == 0.0)
+      {
+        continue;
+      }
+      const WeightsType & w = m_Weights[m];
+      // Gather: v = sum over the block of wx[a] wy[b] wz[c] in(row), four contiguous rows (a = 0..3) at a time.
+      std::array<double, 3> v{ 0.0, 0.0, 0.0 };
+      for (unsigned int c = 0; c < 4; ++c)
+      {
+        for (unsigned int b = 0; b < 4; ++b)
+        {
+          const double * rows = source + 3 * (m_Firsts[m] + b * m_RowStride + c * m_SliceStride);
+          const double   wbc = w[4 + b] * w[8 + c];
+          for (unsigned int d = 0; d < 3; ++d)
+          {
+            v[d] += wbc * (w[0] * rows[d] + w[1] * rows[3 + d] + w[2] * rows[6 + d] + w[3] * rows[9 + d]);
+          }
+        }
+      }
+      for (double & value : v)
+      {
+        value *= mass;
+      }
+      // Scatter: out(row) += wx[a] wy[b] wz[c] v.
+      for (unsigned int c = 0; c < 4; ++c)
+      {
+        for (unsigned int b = 0; b < 4; ++b)
+        {
+          double *     rows = target + 3 * (m_Firsts[m] + b * m_RowStride + c * m_SliceStride);
+          const double wbc = w[4 + b] * w[8 + c];
+          for (unsigned int a = 0; a < 4; ++a)
+          {
+            const double weight = wbc * w[a];
+            for (unsigned int d = 0; d < 3; ++d)
+            {
+              rows[3 * a + d] += weight * v[d];
+            }
+          }
+        }
+      }
+    }
+  }
+
+  /** The diagonal of B^T diag(m) B + s R. */
+  Eigen::VectorXd
+  GetDiagonal() const
+  {
+    Eigen::VectorXd diagonal = m_RegularizerWeight * m_RegularizerDiagonal;
+    for (size_t m = 0; m < m_Firsts.size(); ++m)
+    {
+      const double        mass = m_Mass[static_cast<Eigen::Index>(m)];
+      const WeightsType & w = m_Weights[m];
+      for (unsigned int c = 0; c < 4; ++c)
+      {
+        for (unsigned int b = 0; b < 4; ++b)
+        {
+          for (unsigned int a = 0; a < 4; ++a)
+          {
+            const double weight = w[a] * w[4 + b] * w[8 + c];
+            diagonal[static_cast<Eigen::Index>(m_Firsts[m] + a + b * m_RowStride + c * m_SliceStride)] +=
+              mass * weight * weight;
+          }
+        }
+      }
+    }
+    return diagonal;
+  }
+
+private:
+  size_t                    m_RowStride;
+  size_t                    m_SliceStride;
+  std::vector<unsigned int> m_Firsts;
+  std::vector<WeightsType>  m_Weights;
+  RegularizerType           m_Regularizer;
+  Eigen::VectorXd           m_RegularizerDiagonal;
+  Eigen::VectorXd           m_Mass;
+  double                    m_RegularizerWeight{ 1.0 };
+};
+} // namespace detail
+} // namespace itk
+
+#endif // itkBSplineSampleNormalOperator_h
