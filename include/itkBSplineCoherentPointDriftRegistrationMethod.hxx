@@ -20,6 +20,7 @@
 
 #include "itkBSplineCoherentPointDriftRegistrationMethod.h"
 #include "itkBSplineLatticeRegularization.h"
+#include "itkBSplineLatticeCoarseCorrection.h"
 #include "itkBSplineSampleNormalOperator.h"
 #include "itkSparseMultipleRightHandConjugateGradient.h"
 #include "itkContinuousIndex.h"
@@ -37,6 +38,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <random>
 #include <sstream>
 
@@ -412,6 +414,13 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     firsts,
     weights,
     detail::BSplineLatticeBendingMatrix({ gridSize[0], gridSize[1], gridSize[2] }) + 1e-3 * identity);
+  // The preconditioner: Jacobi's, plus a coarse-lattice correction for the smooth errors that Jacobi damps slowly.
+  std::unique_ptr<detail::BSplineLatticeCoarseCorrection> coarseCorrection;
+  if (m_NumberOfCoarseControlPointsPerAxis >= 2)
+  {
+    coarseCorrection =
+      std::make_unique<detail::BSplineLatticeCoarseCorrection>(normalOperator, m_NumberOfCoarseControlPointsPerAxis);
+  }
 
   // The coefficients c (one column per dimension) and the mapped samples Y + B c.
   Eigen::MatrixXd coefficient(numberOfCoefficients, Dimension);
@@ -695,6 +704,10 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     for (unsigned int attempt = 0;; ++attempt)
     {
       normalOperator.SetWeighting(massVector, lambda * scale);
+      if (coarseCorrection)
+      {
+        coarseCorrection->Update();
+      }
       // The Dimension right-hand sides side by side: one pass over the samples per iteration serves all of them.
       RowMajorCoefficients columns = coefficient;
       detail::SolveConjugateGradient<Dimension>(
@@ -705,7 +718,13 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
         rhs,
         columns,
         m_NumberOfSolverIterations,
-        m_SolverTolerance);
+        m_SolverTolerance,
+        [&coarseCorrection](const RowMajorCoefficients & residual, RowMajorCoefficients & corrected) {
+          if (coarseCorrection)
+          {
+            coarseCorrection->AddCorrection(residual, corrected);
+          }
+        });
       solved = columns;
       // Fold check at the target samples.
       if (minimumDeterminantOf(solved) >= m_MinimumJacobianDeterminant || attempt >= 6)
@@ -789,6 +808,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::PrintSelf(
   os << indent << "MinimumJacobianDeterminant: " << m_MinimumJacobianDeterminant << std::endl;
   os << indent << "NumberOfSolverIterations: " << m_NumberOfSolverIterations << std::endl;
   os << indent << "SolverTolerance: " << m_SolverTolerance << std::endl;
+  os << indent << "NumberOfCoarseControlPointsPerAxis: " << m_NumberOfCoarseControlPointsPerAxis << std::endl;
   os << indent << "RandomSeed: " << m_RandomSeed << std::endl;
   os << indent << "MaximumRunTime: " << m_MaximumRunTime << std::endl;
   os << indent << "TimeLimitReached: " << m_TimeLimitReached << std::endl;

@@ -64,7 +64,8 @@ public:
                               const std::vector<unsigned int> &   firsts,
                               const std::vector<WeightsType> &    weights,
                               const Eigen::SparseMatrix<double> & regularizer)
-    : m_RowStride(size[0])
+    : m_Size(size)
+    , m_RowStride(size[0])
     , m_SliceStride(size[0] * size[1])
     , m_Firsts(firsts)
     , m_Weights(weights)
@@ -167,6 +168,38 @@ public:
     }
   }
 
+  /** The lattice's size, the samples' corners and separable weights, their masses, R and s, as given. */
+  const std::array<size_t, 3> &
+  GetSize() const
+  {
+    return m_Size;
+  }
+  const std::vector<unsigned int> &
+  GetFirsts() const
+  {
+    return m_Firsts;
+  }
+  const std::vector<WeightsType> &
+  GetWeights() const
+  {
+    return m_Weights;
+  }
+  const Eigen::VectorXd &
+  GetMass() const
+  {
+    return m_Mass;
+  }
+  const RegularizerType &
+  GetRegularizer() const
+  {
+    return m_Regularizer;
+  }
+  double
+  GetRegularizerWeight() const
+  {
+    return m_RegularizerWeight;
+  }
+
   /** The diagonal of B^T diag(m) B + s R. */
   Eigen::VectorXd
   GetDiagonal() const
@@ -193,6 +226,7 @@ public:
   }
 
 private:
+  std::array<size_t, 3>     m_Size;
   size_t                    m_RowStride;
   size_t                    m_SliceStride;
   std::vector<unsigned int> m_Firsts;

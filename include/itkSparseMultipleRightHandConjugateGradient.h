@@ -41,7 +41,9 @@ namespace detail
  * passes over its samples (detail::BSplineSampleNormalOperator), that pass is what costs, and three columns cost
  * about one column's time.
  *
- * SolveConjugateGradient takes A as \c apply(in, out), out = A in on row-major blocks, and its \c diagonal.
+ * SolveConjugateGradient takes A as \c apply(in, out), out = A in on row-major blocks, and its \c diagonal; the
+ * preconditioner is D^-1, or D^-1 + C with a \c correct(r, z) that adds C r to z = D^-1 r (C symmetric positive
+ * semi-definite, e.g. a coarse-grid correction, detail::BSplineLatticeCoarseCorrection).
  * SolveSparseConjugateGradient takes A as a sparse matrix: its product is taken as the row-major transpose of the
  * column-major A (equal, A being symmetric), so one pass over A's entries serves every column.
  *
@@ -50,14 +52,24 @@ namespace detail
  * column took. Throws itk::ExceptionObject when the sizes do not agree or the diagonal is not positive.
  * \ingroup FFDShapeMatching
  */
-template <int TColumns, typename TApply>
+/** A preconditioner correction that adds nothing (the preconditioner is then D^-1 alone). */
+struct NoPreconditionerCorrection
+{
+  template <typename TBlock>
+  void
+  operator()(const TBlock &, TBlock &) const
+  {}
+};
+
+template <int TColumns, typename TApply, typename TCorrect = NoPreconditionerCorrection>
 unsigned int
 SolveConjugateGradient(const TApply &                                                           apply,
                        const Eigen::VectorXd &                                                  diagonal,
                        const Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor> & rightHandSide,
                        Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor> &       solution,
                        unsigned int                                                             maximumIterations,
-                       double                                                                   tolerance)
+                       double                                                                   tolerance,
+                       const TCorrect &                                                         correct = TCorrect())
 {
   using BlockType = Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor>;
   using RowType = Eigen::Matrix<double, 1, TColumns>;
@@ -95,7 +107,8 @@ SolveConjugateGradient(const TApply &                                           
   RowType residualNorm2 = residual.colwise().squaredNorm();
   auto    active = [&](int c) { return rightNorm2[c] != 0.0 && residualNorm2[c] >= threshold[c]; };
 
-  BlockType    direction = inverseDiagonal.asDiagonal() * residual;
+  BlockType direction = inverseDiagonal.asDiagonal() * residual;
+  correct(residual, direction);
   RowType      rho = (residual.cwiseProduct(direction)).colwise().sum();
   unsigned int iterations = 0;
   for (; iterations < maximumIterations; ++iterations)
@@ -123,7 +136,7 @@ SolveConjugateGradient(const TApply &                                           
         alpha[c] = rho[c] / curvature[c];
       }
     }
-    // One pass: the step, the new residual, its norm, its preconditioned form (kept in product) and rho.
+    // One pass: the step, the new residual, its norm and its preconditioned form (kept in product); then rho.
     RowType rhoNew = RowType::Zero();
     residualNorm2.setZero();
     for (Eigen::Index n = 0; n < size; ++n)
@@ -132,6 +145,10 @@ SolveConjugateGradient(const TApply &                                           
       residual.row(n) -= product.row(n).cwiseProduct(alpha);
       residualNorm2 += residual.row(n).cwiseAbs2();
       product.row(n) = inverseDiagonal[n] * residual.row(n);
+    }
+    correct(residual, product);
+    for (Eigen::Index n = 0; n < size; ++n)
+    {
       rhoNew += residual.row(n).cwiseProduct(product.row(n));
     }
     RowType beta = RowType::Zero();

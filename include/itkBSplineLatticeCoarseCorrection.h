@@ -1,0 +1,341 @@
+/*=========================================================================
+ *
+ *  Copyright NumFOCUS
+ *
+ *  Licensed under the Apache License, Version 2.0 (the "License");
+ *  you may not use this file except in compliance with the License.
+ *  You may obtain a copy of the License at
+ *
+ *         http://www.apache.org/licenses/LICENSE-2.0.txt
+ *
+ *  Unless required by applicable law or agreed to in writing, software
+ *  distributed under the License is distributed on an "AS IS" BASIS,
+ *  WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+ *  See the License for the specific language governing permissions and
+ *  limitations under the License.
+ *
+ *=========================================================================*/
+#ifndef itkBSplineLatticeCoarseCorrection_h
+#define itkBSplineLatticeCoarseCorrection_h
+
+#include "itkBSplineSampleNormalOperator.h"
+
+#include "itk_eigen.h"
+#include ITK_EIGEN(Cholesky)
+#include ITK_EIGEN(Dense)
+#include ITK_EIGEN(Sparse)
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+namespace itk
+{
+namespace detail
+{
+/** \class BSplineLatticeCoarseCorrection
+ * \brief The coarse-grid part of a two-level preconditioner for the M-step's matrix A = B^T diag(m) B + s R of a
+ * detail::BSplineSampleNormalOperator: C = P (P^T A P)^-1 P^T.
+ *
+ * P interpolates a coarse lattice of \c coarsePerAxis nodes per axis (spread evenly over the fine lattice, fewer where
+ * the fine lattice has fewer) trilinearly onto the fine control lattice. Jacobi's D^-1 damps the fine lattice's
+ * oscillating errors quickly but its smooth errors (whole regions of coefficients moving together, where the
+ * bending term is weak) slowly; C solves for those on the coarse lattice. D^-1 + C is then the conjugate gradients'
+ * preconditioner (detail::SolveConjugateGradient's \c correct adds C r).
+ *
+ * P^T R P is formed once; Update() forms P^T B^T diag(m) B P from the samples' separable weights (a few coarse nodes
+ * per axis and sample) at the operator's current masses, adds s P^T R P and factors the result (dense Cholesky).
+ * Where the factorization fails (the coarse matrix is not positive definite, e.g. no mass and no regularizer),
+ * AddCorrection adds nothing and the preconditioner is Jacobi's alone. Restriction P^T and prolongation P are applied
+ * axis by axis. Tested against the explicit matrices.
+ * \ingroup FFDShapeMatching
+ */
+class BSplineLatticeCoarseCorrection
+{
+public:
+  using BlockType = BSplineSampleNormalOperator::BlockType;
+
+  /** The correction for \c normal (kept by reference: it must outlive this object) on a coarse lattice of
+   * \c coarsePerAxis nodes per axis (at least 2; at most the fine lattice's size, per axis). Throws
+   * itk::ExceptionObject for fewer than 2 nodes or a fine lattice with fewer than 2 along an axis. */
+  BSplineLatticeCoarseCorrection(const BSplineSampleNormalOperator & normal, size_t coarsePerAxis)
+    : m_Normal(normal)
+  {
+    const auto & size = normal.GetSize();
+    if (coarsePerAxis < 2 || std::min({ size[0], size[1], size[2] }) < 2)
+    {
+      itkGenericExceptionMacro(<< "BSplineLatticeCoarseCorrection: " << coarsePerAxis << " coarse nodes per axis on a "
+                               << size[0] << " x " << size[1] << " x " << size[2]
+                               << " lattice (at least 2 of each are needed)");
+    }
+    for (unsigned int d = 0; d < 3; ++d)
+    {
+      Axis & axis = m_Axes[d];
+      axis.Coarse = std::min(coarsePerAxis, size[d]);
+      axis.Low.resize(size[d]);
+      axis.Fraction.resize(size[d]);
+      for (size_t i = 0; i < size[d]; ++i)
+      {
+        const double t =
+          static_cast<double>(i) * static_cast<double>(axis.Coarse - 1) / static_cast<double>(size[d] - 1);
+        const size_t low = std::min(static_cast<size_t>(std::floor(t)), axis.Coarse - 2);
+        axis.Low[i] = static_cast<unsigned int>(low);
+        axis.Fraction[i] = t - static_cast<double>(low);
+      }
+    }
+    const Eigen::SparseMatrix<double> prolongation = GetProlongation();
+    m_CoarseRegularizer = Eigen::MatrixXd(prolongation.transpose() * (normal.GetRegularizer() * prolongation));
+  }
+
+  /** The number of coarse coefficients (per coordinate). */
+  size_t
+  GetNumberOfCoarseCoefficients() const
+  {
+    return m_Axes[0].Coarse * m_Axes[1].Coarse * m_Axes[2].Coarse;
+  }
+
+  /** P as a sparse matrix (fine coefficients x coarse coefficients). */
+  Eigen::SparseMatrix<double>
+  GetProlongation() const
+  {
+    const auto &                        size = m_Normal.GetSize();
+    std::vector<Eigen::Triplet<double>> entries;
+    entries.reserve(8 * size[0] * size[1] * size[2]);
+    for (size_t k = 0; k < size[2]; ++k)
+    {
+      for (size_t j = 0; j < size[1]; ++j)
+      {
+        for (size_t i = 0; i < size[0]; ++i)
+        {
+          const std::array<size_t, 3> at{ i, j, k };
+          for (unsigned int corner = 0; corner < 8; ++corner)
+          {
+            double                weight = 1.0;
+            std::array<size_t, 3> coarse{};
+            for (unsigned int d = 0; d < 3; ++d)
+            {
+              const bool   upper = ((corner >> d) & 1U) != 0;
+              const auto & axis = m_Axes[d];
+              weight *= upper ? axis.Fraction[at[d]] : 1.0 - axis.Fraction[at[d]];
+              coarse[d] = axis.Low[at[d]] + (upper ? 1 : 0);
+            }
+            entries.emplace_back(
+              static_cast<int>(i + size[0] * (j + size[1] * k)),
+              static_cast<int>(coarse[0] + m_Axes[0].Coarse * (coarse[1] + m_Axes[1].Coarse * coarse[2])),
+              weight);
+          }
+        }
+      }
+    }
+    Eigen::SparseMatrix<double> prolongation(static_cast<Eigen::Index>(size[0] * size[1] * size[2]),
+                                             static_cast<Eigen::Index>(GetNumberOfCoarseCoefficients()));
+    prolongation.setFromTriplets(entries.begin(), entries.end());
+    return prolongation;
+  }
+
+  /** Forms and factors P^T A P at the operator's current masses and regularizer weight. */
+  void
+  Update()
+  {
+    const size_t    c0 = m_Axes[0].Coarse;
+    const size_t    c1 = m_Axes[1].Coarse;
+    const auto &    size = m_Normal.GetSize();
+    const auto &    firsts = m_Normal.GetFirsts();
+    const auto &    weights = m_Normal.GetWeights();
+    const auto &    mass = m_Normal.GetMass();
+    Eigen::MatrixXd coarse = m_Normal.GetRegularizerWeight() * m_CoarseRegularizer;
+    for (size_t m = 0; m < firsts.size(); ++m)
+    {
+      const double sampleMass = mass[static_cast<Eigen::Index>(m)];
+      if (sampleMass == 0.0)
+      {
+        continue;
+      }
+      // Per axis, the sample's weights on the coarse nodes (at most 5: its 4 fine nodes span at most 3 coarse steps).
+      const std::array<size_t, 3>          corner{ firsts[m] % size[0],
+                                          (firsts[m] / size[0]) % size[1],
+                                          firsts[m] / (size[0] * size[1]) };
+      std::array<std::array<double, 5>, 3> axisWeights{};
+      std::array<size_t, 3>                base{};
+      std::array<size_t, 3>                count{};
+      for (unsigned int d = 0; d < 3; ++d)
+      {
+        const Axis & axis = m_Axes[d];
+        base[d] = axis.Low[corner[d]];
+        for (unsigned int a = 0; a < 4; ++a)
+        {
+          const size_t i = corner[d] + a;
+          const size_t low = axis.Low[i] - base[d];
+          const double w = weights[m][4 * d + a];
+          axisWeights[d][low] += w * (1.0 - axis.Fraction[i]);
+          axisWeights[d][low + 1] += w * axis.Fraction[i];
+          count[d] = std::max(count[d], low + 2);
+        }
+      }
+      std::array<double, 125> values{};
+      std::array<size_t, 125> indices{};
+      unsigned int            n = 0;
+      for (size_t c = 0; c < count[2]; ++c)
+      {
+        for (size_t b = 0; b < count[1]; ++b)
+        {
+          for (size_t a = 0; a < count[0]; ++a, ++n)
+          {
+            values[n] = axisWeights[0][a] * axisWeights[1][b] * axisWeights[2][c];
+            indices[n] = (base[0] + a) + c0 * ((base[1] + b) + c1 * (base[2] + c));
+          }
+        }
+      }
+      // The lower triangle (the indices increase with n), which the Cholesky factorization reads.
+      for (unsigned int p = 0; p < n; ++p)
+      {
+        const double scaled = sampleMass * values[p];
+        for (unsigned int q = 0; q <= p; ++q)
+        {
+          coarse(static_cast<Eigen::Index>(indices[p]), static_cast<Eigen::Index>(indices[q])) += scaled * values[q];
+        }
+      }
+    }
+    m_Factor.compute(coarse);
+    m_Factored = m_Factor.info() == Eigen::Success;
+  }
+
+  /** Whether the last Update() factored the coarse matrix. */
+  bool
+  IsFactored() const
+  {
+    return m_Factored;
+  }
+
+  /** z += P (P^T A P)^-1 P^T r (nothing when the coarse matrix is not factored). */
+  void
+  AddCorrection(const BlockType & residual, BlockType & z) const
+  {
+    if (!m_Factored)
+    {
+      return;
+    }
+    Restrict(residual, m_Coarse);
+    m_Factor.solveInPlace(m_Coarse);
+    Prolongate(m_Coarse, m_Fine);
+    z += m_Fine;
+  }
+
+  /** coarse = P^T fine, axis by axis. */
+  void
+  Restrict(const BlockType & fine, BlockType & coarse) const
+  {
+    const auto & size = m_Normal.GetSize();
+    const size_t c0 = m_Axes[0].Coarse;
+    const size_t c1 = m_Axes[1].Coarse;
+    m_AlongX.setZero(static_cast<Eigen::Index>(c0 * size[1] * size[2]), 3);
+    for (size_t jk = 0; jk < size[1] * size[2]; ++jk)
+    {
+      for (size_t i = 0; i < size[0]; ++i)
+      {
+        const auto   row = fine.row(static_cast<Eigen::Index>(i + size[0] * jk));
+        const size_t low = m_Axes[0].Low[i] + c0 * jk;
+        m_AlongX.row(static_cast<Eigen::Index>(low)) += (1.0 - m_Axes[0].Fraction[i]) * row;
+        m_AlongX.row(static_cast<Eigen::Index>(low + 1)) += m_Axes[0].Fraction[i] * row;
+      }
+    }
+    m_AlongY.setZero(static_cast<Eigen::Index>(c0 * c1 * size[2]), 3);
+    for (size_t k = 0; k < size[2]; ++k)
+    {
+      for (size_t j = 0; j < size[1]; ++j)
+      {
+        const double fraction = m_Axes[1].Fraction[j];
+        const size_t low = c0 * (m_Axes[1].Low[j] + c1 * k);
+        for (size_t i = 0; i < c0; ++i)
+        {
+          const auto row = m_AlongX.row(static_cast<Eigen::Index>(i + c0 * (j + size[1] * k)));
+          m_AlongY.row(static_cast<Eigen::Index>(low + i)) += (1.0 - fraction) * row;
+          m_AlongY.row(static_cast<Eigen::Index>(low + c0 + i)) += fraction * row;
+        }
+      }
+    }
+    coarse.setZero(static_cast<Eigen::Index>(GetNumberOfCoarseCoefficients()), 3);
+    for (size_t k = 0; k < size[2]; ++k)
+    {
+      const double fraction = m_Axes[2].Fraction[k];
+      const size_t low = c0 * c1 * m_Axes[2].Low[k];
+      for (size_t ij = 0; ij < c0 * c1; ++ij)
+      {
+        const auto row = m_AlongY.row(static_cast<Eigen::Index>(ij + c0 * c1 * k));
+        coarse.row(static_cast<Eigen::Index>(low + ij)) += (1.0 - fraction) * row;
+        coarse.row(static_cast<Eigen::Index>(low + c0 * c1 + ij)) += fraction * row;
+      }
+    }
+  }
+
+  /** fine = P coarse, axis by axis. */
+  void
+  Prolongate(const BlockType & coarse, BlockType & fine) const
+  {
+    const auto & size = m_Normal.GetSize();
+    const size_t c0 = m_Axes[0].Coarse;
+    const size_t c1 = m_Axes[1].Coarse;
+    m_AlongY.resize(static_cast<Eigen::Index>(c0 * c1 * size[2]), 3);
+    for (size_t k = 0; k < size[2]; ++k)
+    {
+      const double fraction = m_Axes[2].Fraction[k];
+      const size_t low = c0 * c1 * m_Axes[2].Low[k];
+      for (size_t ij = 0; ij < c0 * c1; ++ij)
+      {
+        m_AlongY.row(static_cast<Eigen::Index>(ij + c0 * c1 * k)) =
+          (1.0 - fraction) * coarse.row(static_cast<Eigen::Index>(low + ij)) +
+          fraction * coarse.row(static_cast<Eigen::Index>(low + c0 * c1 + ij));
+      }
+    }
+    m_AlongX.resize(static_cast<Eigen::Index>(c0 * size[1] * size[2]), 3);
+    for (size_t k = 0; k < size[2]; ++k)
+    {
+      for (size_t j = 0; j < size[1]; ++j)
+      {
+        const double fraction = m_Axes[1].Fraction[j];
+        const size_t low = c0 * (m_Axes[1].Low[j] + c1 * k);
+        for (size_t i = 0; i < c0; ++i)
+        {
+          m_AlongX.row(static_cast<Eigen::Index>(i + c0 * (j + size[1] * k))) =
+            (1.0 - fraction) * m_AlongY.row(static_cast<Eigen::Index>(low + i)) +
+            fraction * m_AlongY.row(static_cast<Eigen::Index>(low + c0 + i));
+        }
+      }
+    }
+    fine.resize(static_cast<Eigen::Index>(size[0] * size[1] * size[2]), 3);
+    for (size_t jk = 0; jk < size[1] * size[2]; ++jk)
+    {
+      for (size_t i = 0; i < size[0]; ++i)
+      {
+        const size_t low = m_Axes[0].Low[i] + c0 * jk;
+        fine.row(static_cast<Eigen::Index>(i + size[0] * jk)) =
+          (1.0 - m_Axes[0].Fraction[i]) * m_AlongX.row(static_cast<Eigen::Index>(low)) +
+          m_Axes[0].Fraction[i] * m_AlongX.row(static_cast<Eigen::Index>(low + 1));
+      }
+    }
+  }
+
+private:
+  /** Per axis: each fine node's lower coarse node and its fraction of the way to the next. */
+  struct Axis
+  {
+    std::vector<unsigned int> Low;
+    std::vector<double>       Fraction;
+    size_t                    Coarse{ 0 };
+  };
+
+  const BSplineSampleNormalOperator & m_Normal;
+  std::array<Axis, 3>                 m_Axes;
+  Eigen::MatrixXd                     m_CoarseRegularizer;
+  Eigen::LLT<Eigen::MatrixXd>         m_Factor;
+  bool                                m_Factored{ false };
+  mutable BlockType                   m_AlongX;
+  mutable BlockType                   m_AlongY;
+  mutable BlockType                   m_Coarse;
+  mutable BlockType                   m_Fine;
+};
+} // namespace detail
+} // namespace itk
+
+#endif // itkBSplineLatticeCoarseCorrection_h
