@@ -523,6 +523,8 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   std::vector<std::array<unsigned int, 64>> shareIds;
   std::vector<std::array<double, 64>>       shares;
   std::vector<unsigned int>                 shareCounts;
+  // The reverse direction's searches that cannot find a mapped target sample, skipped.
+  detail::EmptySearchPruning emptySearches(numberOfMoving);
 
   for (; iteration < m_NumberOfIterations; ++iteration)
   {
@@ -533,6 +535,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
       break;
     }
     const double radius2 = 9.0 * sigma2;
+    const double radius = std::sqrt(radius2);
 
     // E-step. Per target sample m: the matched mass P1_m, sum_n P_mn x_n and sum_n P_mn |x_n|^2.
     std::fill(mass.begin(), mass.end(), 0.0);
@@ -603,12 +606,18 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
         0,
         numberOfMoving,
         [&](SizeValueType n) {
+          // A source sample with no mapped target sample within 3 sigma takes no share (most of the source, where
+          // the target is a patch): the bounded search finds that without descending the tree, and the pruning
+          // without searching.
+          if (emptySearches.MaySkip(n, radius))
+          {
+            return;
+          }
           std::array<size_t, 64> neighbors{};
           std::array<double, 64> squaredDistances{};
-          // A source sample with no mapped target sample within 3 sigma takes no share (most of the source, where
-          // the target is a patch): the bounded search finds that without descending the tree.
-          const size_t found = detail::SearchNearestWithinRadius(
+          const size_t           found = detail::SearchNearestWithinRadius(
             mappedTree, x[n].GetDataPointer(), reverseNeighbors, radius2, neighbors.data(), squaredDistances.data());
+          emptySearches.Record(n, radius, found > 0);
           if (found == 0 || nearBoundary[neighbors[0]])
           {
             return;
@@ -751,6 +760,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     Eigen::MatrixXd moved = target + basis * coefficient;
     const double    newResidual = residualAt(moved);
     const double    move = std::sqrt((moved - mapped).squaredNorm() / static_cast<double>(numberOfFixed));
+    emptySearches.AddDrift((moved - mapped).rowwise().norm().maxCoeff());
     mapped.swap(moved);
     sigma2 = std::max(newResidual / (Dimension * totalMass), sigmaFloor * sigmaFloor);
     this->UpdateProgress(static_cast<float>(iteration + 1) / static_cast<float>(m_NumberOfIterations));

@@ -588,6 +588,73 @@ TestNearestWithinRadius()
   return EXIT_SUCCESS;
 }
 
+// The pruning of empty radius searches against brute force: points moving a little each round, all one way (some
+// rounds not at all, one round far), radii shrinking and growing; a query it lets skip has no point within the radius,
+// and it lets many skip.
+int
+TestEmptySearchPruning()
+{
+  std::mt19937                           engine(23);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  std::vector<std::array<double, 3>>     points(200);
+  std::vector<std::array<double, 3>>     queries(300);
+  for (auto & p : points)
+  {
+    p = { 10.0 * uniform(engine), 10.0 * uniform(engine), 10.0 * uniform(engine) };
+  }
+  for (auto & q : queries)
+  {
+    q = { 30.0 * uniform(engine) - 10.0, 30.0 * uniform(engine) - 10.0, 30.0 * uniform(engine) - 10.0 };
+  }
+  itk::detail::EmptySearchPruning pruning(queries.size());
+  size_t                          skipped = 0;
+  size_t                          wrong = 0;
+  for (unsigned int round = 0; round < 40; ++round)
+  {
+    const double radius = round == 20 ? 6.0 : 2.0 + std::sin(0.7 * round); // shrinking and growing
+    for (size_t n = 0; n < queries.size(); ++n)
+    {
+      double nearest = std::numeric_limits<double>::max();
+      for (const auto & p : points)
+      {
+        nearest = std::min(nearest,
+                           std::sqrt((p[0] - queries[n][0]) * (p[0] - queries[n][0]) +
+                                     (p[1] - queries[n][1]) * (p[1] - queries[n][1]) +
+                                     (p[2] - queries[n][2]) * (p[2] - queries[n][2])));
+      }
+      const bool found = nearest < radius;
+      if (pruning.MaySkip(n, radius))
+      {
+        ++skipped;
+        wrong += found ? 1 : 0;
+        continue;
+      }
+      pruning.Record(n, radius, found);
+    }
+    // Move the points, all along +x (towards some queries) and each a little at random: not at all every fifth
+    // round, far once, a little otherwise.
+    const double step = round % 5 == 4 ? 0.0 : (round == 10 ? 3.0 : 0.2);
+    double       largest = 0.0;
+    for (auto & p : points)
+    {
+      const std::array<double, 3> move{ 0.8 * step,
+                                        0.3 * step * (uniform(engine) - 0.5),
+                                        0.3 * step * (uniform(engine) - 0.5) };
+      for (unsigned int d = 0; d < 3; ++d)
+      {
+        p[d] += move[d];
+      }
+      largest = std::max(largest, std::sqrt(move[0] * move[0] + move[1] * move[1] + move[2] * move[2]));
+    }
+    pruning.AddDrift(largest);
+  }
+  std::cout << "empty search pruning: " << skipped << " of " << 40 * queries.size() << " searches skipped, " << wrong
+            << " of them wrongly" << std::endl;
+  ITK_TEST_EXPECT_EQUAL(wrong, static_cast<size_t>(0));
+  ITK_TEST_EXPECT_TRUE(skipped > 2000);
+  return EXIT_SUCCESS;
+}
+
 } // namespace
 
 int
@@ -595,7 +662,8 @@ itkBSplineCoherentPointDriftRegistrationMethodTest(int, char *[])
 {
   if (TestBendingMatrix() != EXIT_SUCCESS || TestSupportWeights() != EXIT_SUCCESS ||
       TestSampleNormalOperator() != EXIT_SUCCESS || TestCoarseCorrection() != EXIT_SUCCESS ||
-      TestConjugateGradient() != EXIT_SUCCESS || TestNearestWithinRadius() != EXIT_SUCCESS)
+      TestConjugateGradient() != EXIT_SUCCESS || TestNearestWithinRadius() != EXIT_SUCCESS ||
+      TestEmptySearchPruning() != EXIT_SUCCESS)
   {
     return EXIT_FAILURE;
   }
