@@ -41,6 +41,7 @@
 #include <memory>
 #include <random>
 #include <sstream>
+#include <utility>
 
 namespace itk
 {
@@ -105,6 +106,31 @@ BSplineSeparableSupport(const TImage *           coefficients,
   return true;
 }
 
+/** The 64 weights and coefficient indices of a separable support (corner \c first, \c separable weights as
+ * BSplineSeparableSupport gives them) on a lattice whose first two axes have \c size0 and \c size1 coefficients, the
+ * first axis fastest. */
+inline void
+ExpandSeparableSupport(size_t                         size0,
+                       size_t                         size1,
+                       unsigned int                   first,
+                       const std::array<double, 12> & separable,
+                       std::array<double, 64> &       weights,
+                       std::array<unsigned int, 64> & indices)
+{
+  unsigned int n = 0;
+  for (unsigned int c = 0; c < 4; ++c)
+  {
+    for (unsigned int b = 0; b < 4; ++b)
+    {
+      for (unsigned int a = 0; a < 4; ++a, ++n)
+      {
+        weights[n] = separable[a] * separable[4 + b] * separable[8 + c];
+        indices[n] = first + a + static_cast<unsigned int>(size0) * (b + static_cast<unsigned int>(size1) * c);
+      }
+    }
+  }
+}
+
 /** The 64 weights and coefficient indices (in a BSplineTransform's per-dimension parameter layout) of the cubic
  * B-spline support of \c point on the control lattice \c coefficients (a coefficient image of the transform):
  * T(point) = point + sum_j weights[j] c[indices[j]], the first axis fastest. False, and nothing written, when the
@@ -122,19 +148,8 @@ BSplineSupportWeights(const TImage *                 coefficients,
   {
     return false;
   }
-  const auto   size = coefficients->GetLargestPossibleRegion().GetSize();
-  unsigned int n = 0;
-  for (unsigned int c = 0; c < 4; ++c)
-  {
-    for (unsigned int b = 0; b < 4; ++b)
-    {
-      for (unsigned int a = 0; a < 4; ++a, ++n)
-      {
-        weights[n] = separable[a] * separable[4 + b] * separable[8 + c];
-        indices[n] = first + a + static_cast<unsigned int>(size[0]) * (b + static_cast<unsigned int>(size[1]) * c);
-      }
-    }
-  }
+  const auto size = coefficients->GetLargestPossibleRegion().GetSize();
+  ExpandSeparableSupport(size[0], size[1], first, separable, weights, indices);
   return true;
 }
 
@@ -388,19 +403,14 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   {
     std::vector<Triplet> entries;
     entries.reserve(numberOfFixed * 64);
+    std::array<double, 64>       w{};
+    std::array<unsigned int, 64> k{};
     for (size_t m = 0; m < numberOfFixed; ++m)
     {
-      for (unsigned int c = 0; c < 4; ++c)
+      detail::ExpandSeparableSupport(gridSize[0], gridSize[1], firsts[m], weights[m], w, k);
+      for (unsigned int n = 0; n < 64; ++n)
       {
-        for (unsigned int b = 0; b < 4; ++b)
-        {
-          for (unsigned int a = 0; a < 4; ++a)
-          {
-            entries.emplace_back(static_cast<int>(m),
-                                 static_cast<int>(firsts[m] + a + gridSize[0] * (b + gridSize[1] * c)),
-                                 weights[m][a] * weights[m][4 + b] * weights[m][8 + c]);
-          }
-        }
+        entries.emplace_back(static_cast<int>(m), static_cast<int>(k[n]), w[n]);
       }
     }
     basis.setFromTriplets(entries.begin(), entries.end());
@@ -411,8 +421,8 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   identity.setIdentity();
   detail::BSplineSampleNormalOperator normalOperator(
     { gridSize[0], gridSize[1], gridSize[2] },
-    firsts,
-    weights,
+    std::move(firsts), // the operator keeps the supports; B above was their last other use
+    std::move(weights),
     detail::BSplineLatticeBendingMatrix({ gridSize[0], gridSize[1], gridSize[2] }) + 1e-3 * identity);
   // The preconditioner: Jacobi's, plus a coarse-lattice correction for the smooth errors that Jacobi damps slowly.
   std::unique_ptr<detail::BSplineLatticeCoarseCorrection> coarseCorrection;

@@ -25,6 +25,7 @@
 #include ITK_EIGEN(Sparse)
 
 #include <array>
+#include <utility>
 #include <vector>
 
 namespace itk
@@ -61,16 +62,16 @@ public:
    * and the regularizer (square, one row per coefficient). Throws itk::ExceptionObject when the sizes do not agree
    * or a support leaves the lattice. The masses start at zero and the regularizer's weight at one. */
   BSplineSampleNormalOperator(const std::array<size_t, 3> &       size,
-                              const std::vector<unsigned int> &   firsts,
-                              const std::vector<WeightsType> &    weights,
+                              std::vector<unsigned int>           firsts,
+                              std::vector<WeightsType>            weights,
                               const Eigen::SparseMatrix<double> & regularizer)
     : m_Size(size)
     , m_RowStride(size[0])
     , m_SliceStride(size[0] * size[1])
-    , m_Firsts(firsts)
-    , m_Weights(weights)
+    , m_Firsts(std::move(firsts))
+    , m_Weights(std::move(weights))
     , m_Regularizer(regularizer)
-    , m_Mass(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(firsts.size())))
+    , m_Mass(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m_Firsts.size())))
   {
     const size_t count = size[0] * size[1] * size[2];
     if (regularizer.rows() != static_cast<Eigen::Index>(count) || regularizer.cols() != regularizer.rows())
@@ -78,14 +79,14 @@ public:
       itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: a " << regularizer.rows() << " x " << regularizer.cols()
                                << " regularizer for " << count << " coefficients");
     }
-    if (firsts.size() != weights.size())
+    if (m_Firsts.size() != m_Weights.size())
     {
-      itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: " << firsts.size() << " supports but " << weights.size()
-                               << " weight sets");
+      itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: " << m_Firsts.size() << " supports but "
+                               << m_Weights.size() << " weight sets");
     }
-    for (size_t m = 0; m < firsts.size(); ++m)
+    for (size_t m = 0; m < m_Firsts.size(); ++m)
     {
-      const size_t first = firsts[m];
+      const size_t first = m_Firsts[m];
       if (first % size[0] + 3 >= size[0] || (first / size[0]) % size[1] + 3 >= size[1] ||
           first / m_SliceStride + 3 >= size[2])
       {
