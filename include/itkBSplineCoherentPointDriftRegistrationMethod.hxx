@@ -261,6 +261,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   m_SigmaValues.clear();
   m_MetricValues.clear();
   m_NumberOfRegularizationIncreases = 0;
+  m_NumberOfMomentumRestarts = 0;
   m_StopConditionDescription.clear();
 
   const FixedMeshType *  fixedMesh = this->GetFixedMesh();
@@ -485,6 +486,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   // Over-relaxation: measured on the benchmark from GO's result, where what is left is sliding along the surface
   // (1.8); from the identity, where the shape is still being found, plain EM.
   const double overRelaxation = m_OverRelaxation > 0.0 ? m_OverRelaxation : (refining ? 1.8 : 1.0);
+  const double momentum = m_Momentum;
   const double boundaryDistance = m_OpenBoundaryDistance > 0.0 ? m_OpenBoundaryDistance : 2.0 * sigmaFloor;
 
   // Target samples near the open boundary.
@@ -535,6 +537,12 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   std::vector<unsigned int>                 shareCounts;
   // The reverse direction's searches that cannot find a mapped target sample, skipped.
   detail::EmptySearchPruning emptySearches(numberOfMoving);
+  // The momentum's memory: the coefficients before the last step, and that step's plain EM part.
+  Eigen::MatrixXd previousCoefficient;
+  Eigen::MatrixXd previousPlainStep;
+  bool            previousStepAtFloor = false;
+  Eigen::MatrixXd withoutMomentum;
+  bool            momentumCarried = false;
 
   for (; iteration < m_NumberOfIterations; ++iteration)
   {
@@ -548,121 +556,124 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     const double radius = std::sqrt(radius2);
 
     // E-step. Per target sample m: the matched mass P1_m, sum_n P_mn x_n and sum_n P_mn |x_n|^2.
-    std::fill(mass.begin(), mass.end(), 0.0);
-    std::fill(pulled.begin(), pulled.end(), std::array<double, 3>{ 0.0, 0.0, 0.0 });
-    std::fill(squares.begin(), squares.end(), 0.0);
-    const double forward = m_ForwardWeight;
-    threader->ParallelizeArray(
-      0,
-      numberOfFixed,
-      [&](SizeValueType m) {
-        PointType q;
-        for (unsigned int d = 0; d < Dimension; ++d)
-        {
-          q[d] = mapped(m, d);
-        }
-        std::array<size_t, 64> neighbors{};
-        std::array<double, 64> squaredDistances{};
-        // Only neighbours within 3 sigma carry a weight: the search is bounded there.
-        const size_t found = detail::SearchNearestWithinRadius(
-          movingTree, q.GetDataPointer(), forwardNeighbors, radius2, neighbors.data(), squaredDistances.data());
-        double                 total = 0.0;
-        std::array<double, 64> g{};
-        for (size_t j = 0; j < found; ++j)
-        {
-          const double d2 = squaredDistances[j];
-          g[j] = std::exp(-0.5 * d2 / sigma2);
-          total += g[j];
-        }
-        if (total <= 0.0)
-        {
-          return;
-        }
-        for (size_t j = 0; j < found; ++j)
-        {
-          const double      p = forward * g[j] / total;
-          const PointType & xn = x[neighbors[j]];
-          mass[m] += p;
-          for (unsigned int d = 0; d < Dimension; ++d)
-          {
-            pulled[m][d] += p * xn[d];
-          }
-          squares[m] += p * xn.GetVectorFromOrigin().GetSquaredNorm();
-        }
-      },
-      nullptr);
-    if (forward < 1.0)
-    {
-      std::vector<PointType> mappedPoints(numberOfFixed);
-      for (size_t m = 0; m < numberOfFixed; ++m)
-      {
-        for (unsigned int d = 0; d < Dimension; ++d)
-        {
-          mappedPoints[m][d] = mapped(m, d);
-        }
-      }
-      const detail::PointCloudAdaptor<PointType> mappedCloud{ mappedPoints };
-      detail::PointCloudKdTree<PointType>        mappedTree(
-        Dimension, mappedCloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-      mappedTree.buildIndex();
-      const double outlier = w / (1.0 - w) * 2.0 * Math::pi * sigma2 * density;
-      if (shareIds.size() != numberOfMoving)
-      {
-        shareIds.resize(numberOfMoving);
-        shares.resize(numberOfMoving);
-      }
-      shareCounts.assign(numberOfMoving, 0);
+    const auto expectation = [&]() {
+      std::fill(mass.begin(), mass.end(), 0.0);
+      std::fill(pulled.begin(), pulled.end(), std::array<double, 3>{ 0.0, 0.0, 0.0 });
+      std::fill(squares.begin(), squares.end(), 0.0);
+      const double forward = m_ForwardWeight;
       threader->ParallelizeArray(
         0,
-        numberOfMoving,
-        [&](SizeValueType n) {
-          // A source sample with no mapped target sample within 3 sigma takes no share (most of the source, where
-          // the target is a patch): the bounded search finds that without descending the tree, and the pruning
-          // without searching.
-          if (emptySearches.MaySkip(n, radius))
+        numberOfFixed,
+        [&](SizeValueType m) {
+          PointType q;
+          for (unsigned int d = 0; d < Dimension; ++d)
           {
-            return;
+            q[d] = mapped(m, d);
           }
           std::array<size_t, 64> neighbors{};
           std::array<double, 64> squaredDistances{};
-          const size_t           found = detail::SearchNearestWithinRadius(
-            mappedTree, x[n].GetDataPointer(), reverseNeighbors, radius2, neighbors.data(), squaredDistances.data());
-          emptySearches.Record(n, radius, found > 0);
-          if (found == 0 || nearBoundary[neighbors[0]])
-          {
-            return;
-          }
-          double total = outlier;
+          // Only neighbours within 3 sigma carry a weight: the search is bounded there.
+          const size_t found = detail::SearchNearestWithinRadius(
+            movingTree, q.GetDataPointer(), forwardNeighbors, radius2, neighbors.data(), squaredDistances.data());
+          double                 total = 0.0;
+          std::array<double, 64> g{};
           for (size_t j = 0; j < found; ++j)
           {
             const double d2 = squaredDistances[j];
-            shares[n][j] = std::exp(-0.5 * d2 / sigma2);
-            shareIds[n][j] = static_cast<unsigned int>(neighbors[j]);
-            total += shares[n][j];
+            g[j] = std::exp(-0.5 * d2 / sigma2);
+            total += g[j];
+          }
+          if (total <= 0.0)
+          {
+            return;
           }
           for (size_t j = 0; j < found; ++j)
           {
-            shares[n][j] *= (1.0 - forward) / total;
+            const double      p = forward * g[j] / total;
+            const PointType & xn = x[neighbors[j]];
+            mass[m] += p;
+            for (unsigned int d = 0; d < Dimension; ++d)
+            {
+              pulled[m][d] += p * xn[d];
+            }
+            squares[m] += p * xn.GetVectorFromOrigin().GetSquaredNorm();
           }
-          shareCounts[n] = static_cast<unsigned int>(found);
         },
         nullptr);
-      for (size_t n = 0; n < numberOfMoving; ++n)
+      if (forward < 1.0)
       {
-        const double xx = x[n].GetVectorFromOrigin().GetSquaredNorm();
-        for (unsigned int j = 0; j < shareCounts[n]; ++j)
+        std::vector<PointType> mappedPoints(numberOfFixed);
+        for (size_t m = 0; m < numberOfFixed; ++m)
         {
-          const unsigned int m = shareIds[n][j];
-          const double       p = shares[n][j];
-          mass[m] += p;
           for (unsigned int d = 0; d < Dimension; ++d)
           {
-            pulled[m][d] += p * x[n][d];
+            mappedPoints[m][d] = mapped(m, d);
           }
-          squares[m] += p * xx;
+        }
+        const detail::PointCloudAdaptor<PointType> mappedCloud{ mappedPoints };
+        detail::PointCloudKdTree<PointType>        mappedTree(
+          Dimension, mappedCloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+        mappedTree.buildIndex();
+        const double outlier = w / (1.0 - w) * 2.0 * Math::pi * sigma2 * density;
+        if (shareIds.size() != numberOfMoving)
+        {
+          shareIds.resize(numberOfMoving);
+          shares.resize(numberOfMoving);
+        }
+        shareCounts.assign(numberOfMoving, 0);
+        threader->ParallelizeArray(
+          0,
+          numberOfMoving,
+          [&](SizeValueType n) {
+            // A source sample with no mapped target sample within 3 sigma takes no share (most of the source, where
+            // the target is a patch): the bounded search finds that without descending the tree, and the pruning
+            // without searching.
+            if (emptySearches.MaySkip(n, radius))
+            {
+              return;
+            }
+            std::array<size_t, 64> neighbors{};
+            std::array<double, 64> squaredDistances{};
+            const size_t           found = detail::SearchNearestWithinRadius(
+              mappedTree, x[n].GetDataPointer(), reverseNeighbors, radius2, neighbors.data(), squaredDistances.data());
+            emptySearches.Record(n, radius, found > 0);
+            if (found == 0 || nearBoundary[neighbors[0]])
+            {
+              return;
+            }
+            double total = outlier;
+            for (size_t j = 0; j < found; ++j)
+            {
+              const double d2 = squaredDistances[j];
+              shares[n][j] = std::exp(-0.5 * d2 / sigma2);
+              shareIds[n][j] = static_cast<unsigned int>(neighbors[j]);
+              total += shares[n][j];
+            }
+            for (size_t j = 0; j < found; ++j)
+            {
+              shares[n][j] *= (1.0 - forward) / total;
+            }
+            shareCounts[n] = static_cast<unsigned int>(found);
+          },
+          nullptr);
+        for (size_t n = 0; n < numberOfMoving; ++n)
+        {
+          const double xx = x[n].GetVectorFromOrigin().GetSquaredNorm();
+          for (unsigned int j = 0; j < shareCounts[n]; ++j)
+          {
+            const unsigned int m = shareIds[n][j];
+            const double       p = shares[n][j];
+            mass[m] += p;
+            for (unsigned int d = 0; d < Dimension; ++d)
+            {
+              pulled[m][d] += p * x[n][d];
+            }
+            squares[m] += p * xx;
+          }
         }
       }
-    }
+    };
+    expectation();
     // sum_mn P_mn |x_n - z_m|^2 for target samples at z.
     const auto residualAt = [&](const Eigen::MatrixXd & z) {
       double sum = 0.0;
@@ -684,6 +695,25 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     {
       totalMass += mass[m];
     }
+    // A step that carried momentum and raised the residual is taken back: the coefficients return to that step
+    // without the momentum, and the momentum restarts.
+    if (momentumCarried && totalMass > 0.0 && !m_MetricValues.empty() &&
+        residualAt(mapped) / totalMass > m_MetricValues.back())
+    {
+      Eigen::MatrixXd back = target + basis * withoutMomentum;
+      emptySearches.AddDrift((back - mapped).rowwise().norm().maxCoeff());
+      mapped.swap(back);
+      coefficient = withoutMomentum;
+      previousStepAtFloor = false;
+      ++m_NumberOfMomentumRestarts;
+      expectation();
+      totalMass = 0.0;
+      for (size_t m = 0; m < numberOfFixed; ++m)
+      {
+        totalMass += mass[m];
+      }
+    }
+    momentumCarried = false;
     const double residual = residualAt(mapped);
     if (!(totalMass > 0.0))
     {
@@ -753,18 +783,35 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
       lambda *= 4.0;
       ++m_NumberOfRegularizationIncreases;
     }
-    const double change = (solved - coefficient).cwiseAbs().maxCoeff();
-    // Over-relaxed step, once sigma is at its floor: EM at a small width slides along the surface in many short
-    // steps; going further along each step's direction converges in fewer iterations. The plain step is kept where
-    // the longer one would fold. (While sigma still shrinks, a longer step overshoots.)
-    if (overRelaxation > 1.0 && std::sqrt(sigma2) <= sigmaFloor * (1.0 + 1e-6))
+    const double          change = (solved - coefficient).cwiseAbs().maxCoeff();
+    const Eigen::MatrixXd plainStep = solved - coefficient;
+    // Over-relaxed step with momentum, once sigma is at its floor: EM at a small width slides along the surface in
+    // many short steps; going further along each step's direction (over-relaxation) and keeping part of the last
+    // step (heavy-ball momentum) converge in fewer iterations. The momentum restarts when the plain step turns back
+    // against the previous one (an overshoot); where a longer step would fold, the shorter one is kept. (While sigma
+    // still shrinks, a longer step overshoots.)
+    const bool stepAtFloor = std::sqrt(sigma2) <= sigmaFloor * (1.0 + 1e-6);
+    if (stepAtFloor)
     {
-      const Eigen::MatrixXd relaxed = coefficient + overRelaxation * (solved - coefficient);
-      if (minimumDeterminantOf(relaxed) >= m_MinimumJacobianDeterminant)
+      const Eigen::MatrixXd relaxed = coefficient + overRelaxation * plainStep;
+      if (overRelaxation > 1.0 && minimumDeterminantOf(relaxed) >= m_MinimumJacobianDeterminant)
       {
         solved = relaxed;
       }
+      if (momentum > 0.0 && previousStepAtFloor && plainStep.cwiseProduct(previousPlainStep).sum() >= 0.0)
+      {
+        const Eigen::MatrixXd pushed = solved + momentum * (coefficient - previousCoefficient);
+        if (minimumDeterminantOf(pushed) >= m_MinimumJacobianDeterminant)
+        {
+          withoutMomentum = solved;
+          momentumCarried = true;
+          solved = pushed;
+        }
+      }
     }
+    previousCoefficient = coefficient;
+    previousPlainStep = plainStep;
+    previousStepAtFloor = stepAtFloor;
     coefficient = solved;
     // sigma^2 from the new positions.
     Eigen::MatrixXd moved = target + basis * coefficient;
@@ -819,6 +866,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::PrintSelf(
   os << indent << "NumberOfIterations: " << m_NumberOfIterations << std::endl;
   os << indent << "ConvergenceTolerance: " << m_ConvergenceTolerance << std::endl;
   os << indent << "OverRelaxation: " << m_OverRelaxation << std::endl;
+  os << indent << "Momentum: " << m_Momentum << std::endl;
   os << indent << "InitialSigma: " << m_InitialSigma << std::endl;
   os << indent << "MinimumSigma: " << m_MinimumSigma << std::endl;
   os << indent << "OpenBoundaryDistance: " << m_OpenBoundaryDistance << std::endl;
@@ -834,6 +882,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::PrintSelf(
   os << indent << "TimeLimitReached: " << m_TimeLimitReached << std::endl;
   os << indent << "NumberOfIterationsRun: " << m_SigmaValues.size() << std::endl;
   os << indent << "NumberOfRegularizationIncreases: " << m_NumberOfRegularizationIncreases << std::endl;
+  os << indent << "NumberOfMomentumRestarts: " << m_NumberOfMomentumRestarts << std::endl;
   os << indent << "FinalRegularizationWeight: " << m_FinalRegularizationWeight << std::endl;
   os << indent << "StopConditionDescription: " << m_StopConditionDescription << std::endl;
 }
