@@ -179,7 +179,7 @@ public:
    * one step) when the M-step's step turns back against the previous one, and a step that carried momentum and raised
    * the mean squared residual at the next E-step is taken back to its value without the momentum (one more E-step;
    * NumberOfMomentumRestarts). Default: 0, none. Measured on the module's benchmark from GO's result, 0.9 lowers the
-   * smooth regime's true errors by a fifth to a half at the same iteration count (the sliding along the surface that
+   * smooth regime's true errors by a fifth to a third (the sliding along the surface that
    * is left converges in fewer iterations; benchmark/PEERS_MESH.md); but where the surfaces allow a slide that costs
    * nothing, as a cap of a sphere matched on a sphere, it carries the correspondences far along it and the surfaces
    * apart, which plain EM does not: an option for shapes without such symmetry, not the default. */
