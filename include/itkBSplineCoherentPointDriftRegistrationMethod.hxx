@@ -486,7 +486,6 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   // Over-relaxation: measured on the benchmark from GO's result, where what is left is sliding along the surface
   // (1.8); from the identity, where the shape is still being found, plain EM.
   const double overRelaxation = m_OverRelaxation > 0.0 ? m_OverRelaxation : (refining ? 1.8 : 1.0);
-  const double momentum = m_Momentum;
   const double boundaryDistance = m_OpenBoundaryDistance > 0.0 ? m_OpenBoundaryDistance : 2.0 * sigmaFloor;
 
   // Target samples near the open boundary.
@@ -556,6 +555,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     const double radius = std::sqrt(radius2);
 
     // E-step. Per target sample m: the matched mass P1_m, sum_n P_mn x_n and sum_n P_mn |x_n|^2.
+    // Returns the total matched mass.
     const auto expectation = [&]() {
       std::fill(mass.begin(), mass.end(), 0.0);
       std::fill(pulled.begin(), pulled.end(), std::array<double, 3>{ 0.0, 0.0, 0.0 });
@@ -672,8 +672,14 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
           }
         }
       }
+      double total = 0.0;
+      for (size_t m = 0; m < numberOfFixed; ++m)
+      {
+        total += mass[m];
+      }
+      return total;
     };
-    expectation();
+    double totalMass = expectation();
     // sum_mn P_mn |x_n - z_m|^2 for target samples at z.
     const auto residualAt = [&](const Eigen::MatrixXd & z) {
       double sum = 0.0;
@@ -690,11 +696,6 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
       }
       return sum;
     };
-    double totalMass = 0.0;
-    for (size_t m = 0; m < numberOfFixed; ++m)
-    {
-      totalMass += mass[m];
-    }
     // A step that carried momentum and raised the residual is taken back: the coefficients return to that step
     // without the momentum, and the momentum restarts.
     if (momentumCarried && totalMass > 0.0 && !m_MetricValues.empty() &&
@@ -706,12 +707,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
       coefficient = withoutMomentum;
       previousStepAtFloor = false;
       ++m_NumberOfMomentumRestarts;
-      expectation();
-      totalMass = 0.0;
-      for (size_t m = 0; m < numberOfFixed; ++m)
-      {
-        totalMass += mass[m];
-      }
+      totalMass = expectation();
     }
     momentumCarried = false;
     const double residual = residualAt(mapped);
@@ -783,8 +779,8 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
       lambda *= 4.0;
       ++m_NumberOfRegularizationIncreases;
     }
-    const double          change = (solved - coefficient).cwiseAbs().maxCoeff();
     const Eigen::MatrixXd plainStep = solved - coefficient;
+    const double          change = plainStep.cwiseAbs().maxCoeff();
     // Over-relaxed step with momentum, once sigma is at its floor: EM at a small width slides along the surface in
     // many short steps; going further along each step's direction (over-relaxation) and keeping part of the last
     // step (heavy-ball momentum) converge in fewer iterations. The momentum restarts when the plain step turns back
@@ -798,9 +794,9 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
       {
         solved = relaxed;
       }
-      if (momentum > 0.0 && previousStepAtFloor && plainStep.cwiseProduct(previousPlainStep).sum() >= 0.0)
+      if (m_Momentum > 0.0 && previousStepAtFloor && plainStep.cwiseProduct(previousPlainStep).sum() >= 0.0)
       {
-        const Eigen::MatrixXd pushed = solved + momentum * (coefficient - previousCoefficient);
+        const Eigen::MatrixXd pushed = solved + m_Momentum * (coefficient - previousCoefficient);
         if (minimumDeterminantOf(pushed) >= m_MinimumJacobianDeterminant)
         {
           withoutMomentum = solved;
@@ -809,9 +805,12 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
         }
       }
     }
-    previousCoefficient = coefficient;
-    previousPlainStep = plainStep;
-    previousStepAtFloor = stepAtFloor;
+    if (m_Momentum > 0.0)
+    {
+      previousCoefficient = coefficient;
+      previousPlainStep = plainStep;
+      previousStepAtFloor = stepAtFloor;
+    }
     coefficient = solved;
     // sigma^2 from the new positions.
     Eigen::MatrixXd moved = target + basis * coefficient;
