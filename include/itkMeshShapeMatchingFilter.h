@@ -60,7 +60,7 @@ namespace itk
  *    moving one): GO (BSplineFFDImageRegistrationMethod), MRF (BSplineMRFImageRegistrationMethod), Par
  *    (ParametricTemplateRegistrationMethod on the meshes themselves, with the TemplateTransform), GO / MRF
  *    refined by Par, or GO refined by BSplineCoherentPointDriftRegistrationMethod (soft correspondences between
- *    the meshes' vertices, from GO's result: GOCPD);
+ *    the meshes' vertices, from GO's result: GOCPD; the filter sets its Momentum to 0.9);
  * 3. ApplyTransformToMeshFilter applies T^-1 to the source's vertices (Newton inversion).
  *
  * GetOutput() is the deformed source: the source's vertex order, cells and point data, its points moved onto the

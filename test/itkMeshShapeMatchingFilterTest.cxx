@@ -151,6 +151,7 @@ itkMeshShapeMatchingFilterTest(int, char *[])
   ITK_TEST_EXPECT_EQUAL(filter->GetNumberOfIterationsOf(itk::FFDShapeMatchingEnums::Method::GO), 50);
   ITK_TEST_EXPECT_EQUAL(filter->GetNumberOfIterationsOf(itk::FFDShapeMatchingEnums::Method::MRF), 8);
   ITK_TEST_EXPECT_EQUAL(filter->GetMRFSolver(), itk::MRFLabelingSolverEnums::Algorithm::SpanningTree);
+  ITK_TEST_EXPECT_EQUAL(filter->GetModifiableCPDRegistration()->GetMomentum(), 0.9);
 
   // Bad input: no target, Par without templates, meshes apart.
   filter->SetSourceMesh(source);
@@ -164,12 +165,14 @@ itkMeshShapeMatchingFilterTest(int, char *[])
   ITK_TRY_EXPECT_EXCEPTION(filter->Update());
   filter->SetTargetMesh(target);
 
-  // GO, MRF and GO+CPD on a small grid: the surfaces meet (the mean directed distance drops below half) and the
+  // GO, MRF and GO+CPD on small grids: the surfaces meet (the mean directed distance drops below half) and the
   // true error does not grow by more than 10 % (on a sphere, sliding along the surface is left to the
-  // regularization; measured: GO 1.38 -> 1.21 mm, MRF 1.38 -> 1.41 mm; GO+CPD is held to the distance
-  // only: on this rotationally symmetric cap with 6 control points per axis its point correspondences slide, 1.38 ->
-  // 9.9 mm measured, while on the benchmark's meshes it lowers GO's error, see benchmark/RESULTS.md), the output keeps
-  // the source's vertices and cells, the transform is an output of the pipeline, progress ends at 1.
+  // regularization; measured: GO 1.38 -> 1.21 mm, MRF 1.38 -> 1.41 mm with 6 control points per axis). GO+CPD runs
+  // on 10 control points per axis, the coarsest lattice that holds the cap's deformation: with 6 its soft fit
+  // (sigma at its floor, 1.9 mm there) cannot hold the cap to the sphere, and the correspondences slide far along
+  // this rotationally symmetric surface (1.38 -> 9.7 mm with plain EM; with the filter's default momentum the surfaces
+  // also end apart, benchmark/PEERS_MESH.md). The output keeps the source's vertices and cells, the transform is an
+  // output of the pipeline, progress ends at 1.
   float        lastProgress = 0.0f;
   unsigned int progressEvents = 0;
   filter->AddObserver(itk::ProgressEvent(), [&](const itk::EventObject &) {
@@ -182,7 +185,7 @@ itkMeshShapeMatchingFilterTest(int, char *[])
   for (const auto method : { MethodEnum::GO, MethodEnum::MRF, MethodEnum::GOCPD })
   {
     filter->SetMethod(method);
-    filter->SetNumberOfControlPointsPerAxis(6);
+    filter->SetNumberOfControlPointsPerAxis(method == MethodEnum::GOCPD ? 10 : 6);
     filter->SetVoxelSize(1.5);
     ITK_TRY_EXPECT_NO_EXCEPTION(filter->Update());
     const double after = MeanTrueError(filter->GetOutput(), target, truth);
@@ -192,9 +195,11 @@ itkMeshShapeMatchingFilterTest(int, char *[])
               << " iterations; " << filter->GetNumberOfMetricVoxels() << " metric voxels, "
               << filter->GetNumberOfOpenBoundaryEdges() << " open boundary edges" << std::endl;
     ITK_TEST_EXPECT_TRUE(afterDistance < 0.5 * startDistance);
-    if (method != MethodEnum::GOCPD)
+    ITK_TEST_EXPECT_TRUE(after < 1.1 * start);
+    if (method == MethodEnum::GOCPD)
     {
-      ITK_TEST_EXPECT_TRUE(after < 1.1 * start);
+      // On 10 control points the cap's correspondences hold: measured 1.38 -> 0.050 mm.
+      ITK_TEST_EXPECT_TRUE(after < 0.1 * start);
     }
     ITK_TEST_EXPECT_EQUAL(filter->GetOutput()->GetNumberOfPoints(), source->GetNumberOfPoints());
     ITK_TEST_EXPECT_EQUAL(filter->GetOutput()->GetNumberOfCells(), source->GetNumberOfCells());
