@@ -168,7 +168,7 @@ itkMeshShapeMatchingFilterTest(int, char *[])
   // GO, MRF and GO+CPD on small grids: the surfaces meet (the mean directed distance drops below half) and the
   // true error does not grow by more than 10 % (on a sphere, sliding along the surface is left to the
   // regularization; measured: GO 1.38 -> 1.21 mm, MRF 1.38 -> 1.41 mm with 6 control points per axis). GO+CPD runs
-  // on 10 control points per axis, the coarsest lattice that holds the cap's deformation: with 6 its soft fit
+  // on 10 control points per axis, a lattice that holds the cap's deformation (so does 20): with 6 its soft fit
   // (sigma at its floor, 1.9 mm there) cannot hold the cap to the sphere, and the correspondences slide far along
   // this rotationally symmetric surface (1.38 -> 9.7 mm with plain EM; with the filter's default momentum the surfaces
   // also end apart, benchmark/PEERS_MESH.md). The output keeps the source's vertices and cells, the transform is an
