@@ -380,6 +380,10 @@ MeshShapeMatchingFilter<TMesh, TImage>::VoxelizeMeshes()
     try
     {
       voxelizer->SetGeometryFromMeshBounds(spacing, this->GetVoxelGridMargin());
+      if (!isTarget)
+      {
+        this->CropSourceGridToTarget();
+      }
       voxelizer->UpdateLargestPossibleRegion();
     }
     catch (const ExceptionObject & error)
@@ -406,6 +410,36 @@ MeshShapeMatchingFilter<TMesh, TImage>::VoxelizeMeshes()
     itkExceptionMacro(
       << "the target surface leaves no voxel to compare (too small for the voxel size, or all open boundary)");
   }
+}
+
+template <typename TMesh, typename TImage>
+void
+MeshShapeMatchingFilter<TMesh, TImage>::CropSourceGridToTarget()
+{
+  // The voxels of the source's own grid (same origin lattice) that lie within the target's grid grown by the margin.
+  const auto * targetImage = m_TargetVoxelizer->GetOutput();
+  const auto   targetSize = targetImage->GetLargestPossibleRegion().GetSize();
+  double       largestSide = 0.0;
+  for (unsigned int d = 0; d < Dimension; ++d)
+  {
+    largestSide = std::max(largestSide, static_cast<double>(targetSize[d]) * m_VoxelSize);
+  }
+  const double margin = this->GetEffectiveSourceGridMargin(largestSide);
+  auto         origin = m_SourceVoxelizer->GetOrigin();
+  auto         size = m_SourceVoxelizer->GetSize();
+  for (unsigned int d = 0; d < Dimension; ++d)
+  {
+    const double low = targetImage->GetOrigin()[d] - margin;
+    const double high = targetImage->GetOrigin()[d] + static_cast<double>(targetSize[d] - 1) * m_VoxelSize + margin;
+    const double first = std::max(0.0, std::floor((low - origin[d]) / m_VoxelSize));
+    const double last = std::min(static_cast<double>(size[d]) - 1.0, std::ceil((high - origin[d]) / m_VoxelSize));
+    // Grids apart along an axis (CheckOverlap allows a band's gap) keep one slice of the source's grid.
+    const double count = std::max(1.0, last - first + 1.0);
+    origin[d] += std::min(first, static_cast<double>(size[d]) - 1.0) * m_VoxelSize;
+    size[d] = static_cast<SizeValueType>(count);
+  }
+  m_SourceVoxelizer->SetOrigin(origin);
+  m_SourceVoxelizer->SetSize(size);
 }
 
 template <typename TMesh, typename TImage>
@@ -656,6 +690,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::PrintSelf(std::ostream & os, Indent inde
   os << indent << "Voxelization: " << m_Voxelization << std::endl;
   os << indent << "VoxelSize: " << m_VoxelSize << std::endl;
   os << indent << "BandWidthInVoxels: " << m_BandWidthInVoxels << std::endl;
+  os << indent << "SourceGridMargin: " << m_SourceGridMargin << std::endl;
   os << indent << "NumberOfControlPointsPerAxis: " << m_NumberOfControlPointsPerAxis << std::endl;
   os << indent << "NumberOfLevels: " << m_NumberOfLevels << std::endl;
   os << indent << "NumberOfIterations: " << m_NumberOfIterations << std::endl;

@@ -33,6 +33,7 @@ namespace
 using namespace ShapeMatchingTestMeshes;
 using FilterType = itk::MeshShapeMatchingFilter<MeshType>;
 using MaskImageType = FilterType::MaskImageType;
+using ImageType = FilterType::ImageType;
 
 // The open-boundary cut against brute force: a mask of ones, one triangle (three open edges), each voxel cleared
 // exactly when its centre is closer than the radius to one of the edges.
@@ -217,6 +218,62 @@ itkMeshShapeMatchingFilterTest(int, char *[])
     ITK_TEST_EXPECT_TRUE(std::abs(lastProgress - 1.0f) < 1e-3f);
     progressEvents = 0;
   }
+
+  // The source's grid: by default the target's grid grown by the larger of 10 voxels and 15 % of its largest side;
+  // with a 2 mm margin, only the source's voxels within 2 mm of the target's grid (plus the rounding to whole
+  // voxels), with the values of the whole grid; a margin wider than the source gives the whole grid.
+  ITK_TEST_EXPECT_EQUAL(filter->GetSourceGridMargin(), -1.0);
+  ITK_TEST_EXPECT_EQUAL(filter->GetEffectiveSourceGridMargin(40.0), 15.0);
+  ITK_TEST_EXPECT_EQUAL(filter->GetEffectiveSourceGridMargin(200.0), 30.0);
+  filter->SetMethod(MethodEnum::GO);
+  filter->SetNumberOfControlPointsPerAxis(6);
+  filter->SetSourceGridMargin(2.0);
+  ITK_TEST_EXPECT_EQUAL(filter->GetEffectiveSourceGridMargin(200.0), 2.0);
+  ITK_TRY_EXPECT_NO_EXCEPTION(filter->Update());
+  const ImageType * fixedImage = filter->GetModifiableTargetVoxelizer()->GetOutput();
+  const ImageType * croppedImage = filter->GetModifiableSourceVoxelizer()->GetOutput();
+  auto              whole = FilterType::VoxelizerType::New();
+  whole->SetInput(source);
+  whole->SetMode(itk::TriangleMeshToVoxelImageFilterEnums::Mode::SignedDistance);
+  whole->SetBandWidth(filter->GetBandWidth());
+  whole->SetUnsignedDistance(true);
+  FilterType::VoxelizerType::SpacingType spacing;
+  spacing.Fill(filter->GetVoxelSize());
+  whole->SetGeometryFromMeshBounds(spacing, filter->GetVoxelGridMargin());
+  whole->Update();
+  const ImageType * wholeImage = whole->GetOutput();
+  unsigned int      croppedAxes = 0;
+  for (unsigned int d = 0; d < 3; ++d)
+  {
+    const double fixedLow = fixedImage->GetOrigin()[d];
+    const double fixedHigh =
+      fixedLow + (fixedImage->GetLargestPossibleRegion().GetSize()[d] - 1) * fixedImage->GetSpacing()[d];
+    const double low = croppedImage->GetOrigin()[d];
+    const double high =
+      low + (croppedImage->GetLargestPossibleRegion().GetSize()[d] - 1) * croppedImage->GetSpacing()[d];
+    ITK_TEST_EXPECT_TRUE(low >= fixedLow - 2.0 - 1.5 - 1e-9 && high <= fixedHigh + 2.0 + 1.5 + 1e-9);
+    croppedAxes +=
+      croppedImage->GetLargestPossibleRegion().GetSize()[d] < wholeImage->GetLargestPossibleRegion().GetSize()[d];
+  }
+  ITK_TEST_EXPECT_TRUE(croppedAxes > 0);
+  size_t differences = 0;
+  for (itk::ImageRegionConstIteratorWithIndex<ImageType> it(croppedImage, croppedImage->GetLargestPossibleRegion());
+       !it.IsAtEnd();
+       ++it)
+  {
+    ImageType::PointType point;
+    croppedImage->TransformIndexToPhysicalPoint(it.GetIndex(), point);
+    ImageType::IndexType index;
+    const bool           inside = wholeImage->TransformPhysicalPointToIndex(point, index);
+    differences += !inside || wholeImage->GetPixel(index) != it.Get();
+  }
+  std::cout << "source grid " << croppedImage->GetLargestPossibleRegion().GetSize() << " of "
+            << wholeImage->GetLargestPossibleRegion().GetSize() << ", " << differences << " voxels differ" << std::endl;
+  ITK_TEST_EXPECT_EQUAL(differences, 0);
+  filter->SetSourceGridMargin(1000.0);
+  ITK_TRY_EXPECT_NO_EXCEPTION(filter->Update());
+  ITK_TEST_EXPECT_EQUAL(filter->GetModifiableSourceVoxelizer()->GetOutput()->GetLargestPossibleRegion(),
+                        wholeImage->GetLargestPossibleRegion());
   std::cout << "Test finished." << std::endl;
   return EXIT_SUCCESS;
 }
