@@ -57,7 +57,10 @@ namespace itk
  * sample, at most 0.4 control spacings, with a floor of at most 0.15 control spacings and half the start.
  * Once sigma is at its floor, each step is over-relaxed, and may carry heavy-ball momentum (OverRelaxation,
  * Momentum): what is left there is sliding along the surface, which plain EM does in many short steps.
- * Nearest neighbours come from nanoflann's k-d tree, searched within 3 sigma (beyond it a weight is nil). The run
+ * Nearest neighbours are searched within 3 sigma (beyond it a weight is nil): each mapped target sample keeps a list
+ * of the source samples within 1.25 times that of where it was (detail::NeighborCandidateLists, built from nanoflann's
+ * k-d tree), searched until it has moved too far; the pairs closer than 3 sigma found from it are the reverse
+ * direction's too, grouped by source sample. The run
  * ends after NumberOfIterations, or earlier once sigma is at its floor and the mapped target samples have stopped
  * moving (ConvergenceTolerance).
  * A step that would fold the transform at the target samples (det J below MinimumJacobianDeterminant) is solved

@@ -26,6 +26,7 @@
 #include "itkContinuousIndex.h"
 #include "itkCubicBSplineKernel.h"
 #include "itkMultiThreaderBase.h"
+#include "itkNeighborCandidateLists.h"
 #include "itkPointCloudKdTree.h"
 #include "itkPointsLocator.h"
 #include "itkSpatialJacobianEvaluator.h"
@@ -534,8 +535,14 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   std::vector<std::array<unsigned int, 64>> shareIds;
   std::vector<std::array<double, 64>>       shares;
   std::vector<unsigned int>                 shareCounts;
-  // The reverse direction's searches that cannot find a mapped target sample, skipped.
-  detail::EmptySearchPruning emptySearches(numberOfMoving);
+  // The neighbour searches: each mapped target sample's candidate list of source samples (it moves, they do not;
+  // a list reaches 1.25 times the search radius), the pairs closer than the search radius found from them (per
+  // target sample), and the same pairs per source sample for the reverse direction (pairStart[n] to
+  // pairStart[n + 1] in reversePairs).
+  detail::NeighborCandidateLists                            forwardLists(numberOfFixed, 0.25);
+  std::vector<std::vector<std::pair<unsigned int, double>>> pairs(numberOfFixed);
+  std::vector<unsigned int>                                 pairStart(numberOfMoving + 1);
+  std::vector<std::pair<unsigned int, double>>              reversePairs;
   // The momentum's memory: the coefficients before the last step, and that step's plain EM part.
   Eigen::MatrixXd previousCoefficient;
   Eigen::MatrixXd previousPlainStep;
@@ -561,20 +568,33 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
       std::fill(pulled.begin(), pulled.end(), std::array<double, 3>{ 0.0, 0.0, 0.0 });
       std::fill(squares.begin(), squares.end(), 0.0);
       const double forward = m_ForwardWeight;
+      const bool   reverse = forward < 1.0;
+      // Forward: each mapped target sample's nearest source samples within 3 sigma (beyond it a weight is nil),
+      // from its candidate list. The pairs closer than 3 sigma are kept for the reverse direction: they are the same
+      // pairs seen from the source samples.
       threader->ParallelizeArray(
         0,
         numberOfFixed,
         [&](SizeValueType m) {
-          PointType q;
-          for (unsigned int d = 0; d < Dimension; ++d)
+          const std::array<double, 3> q{ mapped(m, 0), mapped(m, 1), mapped(m, 2) };
+          if (forwardLists.NeedsRebuild(m, q.data(), radius))
           {
-            q[d] = mapped(m, d);
+            forwardLists.Rebuild(m, movingTree, q.data(), radius);
           }
-          std::array<size_t, 64> neighbors{};
-          std::array<double, 64> squaredDistances{};
-          // Only neighbours within 3 sigma carry a weight: the search is bounded there.
-          const size_t found = detail::SearchNearestWithinRadius(
-            movingTree, q.GetDataPointer(), forwardNeighbors, radius2, neighbors.data(), squaredDistances.data());
+          std::array<size_t, 64>               neighbors{};
+          std::array<double, 64>               squaredDistances{};
+          detail::NearestWithinRadiusResultSet nearest(
+            forwardNeighbors, radius2, neighbors.data(), squaredDistances.data());
+          auto & within = pairs[m];
+          within.clear();
+          forwardLists.ForEachWithin(m, x, q.data(), radius2, [&](size_t n, double squaredDistance) {
+            nearest.addPoint(squaredDistance, n);
+            if (reverse)
+            {
+              within.emplace_back(static_cast<unsigned int>(n), squaredDistance);
+            }
+          });
+          const size_t           found = nearest.size();
           double                 total = 0.0;
           std::array<double, 64> g{};
           for (size_t j = 0; j < found; ++j)
@@ -600,20 +620,30 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
           }
         },
         nullptr);
-      if (forward < 1.0)
+      if (reverse)
       {
-        std::vector<PointType> mappedPoints(numberOfFixed);
+        // The same pairs grouped by source sample (counting sort, so each group is in target-sample order).
+        std::fill(pairStart.begin(), pairStart.end(), 0u);
         for (size_t m = 0; m < numberOfFixed; ++m)
         {
-          for (unsigned int d = 0; d < Dimension; ++d)
+          for (const auto & pair : pairs[m])
           {
-            mappedPoints[m][d] = mapped(m, d);
+            ++pairStart[pair.first + 1];
           }
         }
-        const detail::PointCloudAdaptor<PointType> mappedCloud{ mappedPoints };
-        detail::PointCloudKdTree<PointType>        mappedTree(
-          Dimension, mappedCloud, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-        mappedTree.buildIndex();
+        for (size_t n = 0; n < numberOfMoving; ++n)
+        {
+          pairStart[n + 1] += pairStart[n];
+        }
+        reversePairs.resize(pairStart[numberOfMoving]);
+        std::vector<unsigned int> next(pairStart.begin(), pairStart.end() - 1);
+        for (size_t m = 0; m < numberOfFixed; ++m)
+        {
+          for (const auto & pair : pairs[m])
+          {
+            reversePairs[next[pair.first]++] = { static_cast<unsigned int>(m), pair.second };
+          }
+        }
         const double outlier = w / (1.0 - w) * 2.0 * Math::pi * sigma2 * density;
         if (shareIds.size() != numberOfMoving)
         {
@@ -626,17 +656,20 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
           numberOfMoving,
           [&](SizeValueType n) {
             // A source sample with no mapped target sample within 3 sigma takes no share (most of the source, where
-            // the target is a patch): the bounded search finds that without descending the tree, and the pruning
-            // without searching.
-            if (emptySearches.MaySkip(n, radius))
+            // the target is a patch).
+            if (pairStart[n] == pairStart[n + 1])
             {
               return;
             }
-            std::array<size_t, 64> neighbors{};
-            std::array<double, 64> squaredDistances{};
-            const size_t           found = detail::SearchNearestWithinRadius(
-              mappedTree, x[n].GetDataPointer(), reverseNeighbors, radius2, neighbors.data(), squaredDistances.data());
-            emptySearches.Record(n, radius, found > 0);
+            std::array<size_t, 64>               neighbors{};
+            std::array<double, 64>               squaredDistances{};
+            detail::NearestWithinRadiusResultSet nearest(
+              reverseNeighbors, radius2, neighbors.data(), squaredDistances.data());
+            for (unsigned int j = pairStart[n]; j < pairStart[n + 1]; ++j)
+            {
+              nearest.addPoint(reversePairs[j].second, reversePairs[j].first);
+            }
+            const size_t found = nearest.size();
             if (found == 0 || nearBoundary[neighbors[0]])
             {
               return;
@@ -702,7 +735,6 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
         residualAt(mapped) / totalMass > m_MetricValues.back())
     {
       Eigen::MatrixXd back = target + basis * withoutMomentum;
-      emptySearches.AddDrift((back - mapped).rowwise().norm().maxCoeff());
       mapped.swap(back);
       coefficient = withoutMomentum;
       previousStepAtFloor = false;
@@ -816,7 +848,6 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     Eigen::MatrixXd moved = target + basis * coefficient;
     const double    newResidual = residualAt(moved);
     const double    move = std::sqrt((moved - mapped).squaredNorm() / static_cast<double>(numberOfFixed));
-    emptySearches.AddDrift((moved - mapped).rowwise().norm().maxCoeff());
     mapped.swap(moved);
     sigma2 = std::max(newResidual / (Dimension * totalMass), sigmaFloor * sigmaFloor);
     this->UpdateProgress(static_cast<float>(iteration + 1) / static_cast<float>(m_NumberOfIterations));

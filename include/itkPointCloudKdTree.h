@@ -152,51 +152,6 @@ SearchNearestWithinRadius(const TTree &  tree,
   return result.size();
 }
 
-/** \class EmptySearchPruning
- * \brief Skips radius searches into a moving point set that cannot find anything.
- *
- * For fixed queries n searched within a radius among points that move between searches (e.g. source samples among
- * the mapped target samples of a registration): once a search of query n found no point within radius r, every point
- * was at least r away; after the points have moved by at most delta each (AddDrift sums each round's largest move),
- * none is nearer than r - delta. A search within a radius at or below that finds nothing, so MaySkip says it can be
- * skipped. The answers are exactly those of searching every time (tested against brute force).
- * \ingroup FFDShapeMatching */
-class EmptySearchPruning
-{
-public:
-  explicit EmptySearchPruning(size_t numberOfQueries)
-    : m_ClearRadius(numberOfQueries, 0.0)
-    , m_DriftAtSearch(numberOfQueries, 0.0)
-  {}
-
-  /** True when query n's search within \c radius cannot find a point. */
-  bool
-  MaySkip(size_t n, double radius) const
-  {
-    return m_ClearRadius[n] - (m_Drift - m_DriftAtSearch[n]) > radius * (1.0 + 1e-9);
-  }
-
-  /** Records query n's search within \c radius and whether it found a point. (Queries write their own entries
-   * only: searches of different queries may record concurrently.) */
-  void
-  Record(size_t n, double radius, bool found)
-  {
-    m_ClearRadius[n] = found ? 0.0 : radius;
-    m_DriftAtSearch[n] = m_Drift;
-  }
-
-  /** The points have moved, each by at most \c largestMove, since the last call. */
-  void
-  AddDrift(double largestMove)
-  {
-    m_Drift += largestMove * (1.0 + 1e-9);
-  }
-
-private:
-  std::vector<double> m_ClearRadius;
-  std::vector<double> m_DriftAtSearch;
-  double              m_Drift{ 0.0 };
-};
 } // namespace detail
 } // namespace itk
 

@@ -21,6 +21,7 @@
 
 #include "itkBSplineCoherentPointDriftRegistrationMethod.h"
 #include "itkBSplineLatticeCoarseCorrection.h"
+#include "itkNeighborCandidateLists.h"
 #include "itkShapeMatchingTestMeshes.h"
 #include "itkTestingMacros.h"
 #include "itkTranslationTransform.h"
@@ -588,70 +589,95 @@ TestNearestWithinRadius()
   return EXIT_SUCCESS;
 }
 
-// The pruning of empty radius searches against brute force: points moving a little each round, all one way (some
-// rounds not at all, one round far), radii shrinking and growing; a query it lets skip has no point within the radius,
-// and it lets many skip.
+// The candidate lists against brute force: queries moving a little each round (some not at all, every one far
+// once), radii shrinking and growing; every search visits exactly the points within the radius, and the k nearest
+// are brute force's, in its order and with its distances; most searches are answered without building a list.
 int
-TestEmptySearchPruning()
+TestNeighborCandidateLists()
 {
+  using PointType = itk::Point<double, 3>;
+  ITK_TRY_EXPECT_EXCEPTION(itk::detail::NeighborCandidateLists(10, 0.0));
   std::mt19937                           engine(23);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
-  std::vector<std::array<double, 3>>     points(200);
+  std::vector<PointType>                 points(400);
   std::vector<std::array<double, 3>>     queries(300);
   for (auto & p : points)
   {
-    p = { 10.0 * uniform(engine), 10.0 * uniform(engine), 10.0 * uniform(engine) };
+    for (unsigned int d = 0; d < 3; ++d)
+    {
+      p[d] = 10.0 * uniform(engine);
+    }
   }
   for (auto & q : queries)
   {
-    q = { 30.0 * uniform(engine) - 10.0, 30.0 * uniform(engine) - 10.0, 30.0 * uniform(engine) - 10.0 };
+    q = { 14.0 * uniform(engine) - 2.0, 14.0 * uniform(engine) - 2.0, 14.0 * uniform(engine) - 2.0 };
   }
-  itk::detail::EmptySearchPruning pruning(queries.size());
-  size_t                          skipped = 0;
-  size_t                          wrong = 0;
+  const itk::detail::PointCloudAdaptor<PointType> adaptor{ points };
+  itk::detail::PointCloudKdTree<PointType>        tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(8));
+  tree.buildIndex();
+  itk::detail::NeighborCandidateLists lists(queries.size(), 0.25);
+  size_t                              searches = 0;
+  size_t                              rebuilds = 0;
+  size_t                              wrong = 0;
+  size_t                              found = 0;
   for (unsigned int round = 0; round < 40; ++round)
   {
-    const double radius = round == 20 ? 6.0 : 2.0 + std::sin(0.7 * round); // shrinking and growing
+    const double radius = 1.5 + 0.3 * std::sin(0.7 * round); // shrinking and growing
+    const double squaredRadius = radius * radius;
     for (size_t n = 0; n < queries.size(); ++n)
     {
-      double nearest = std::numeric_limits<double>::max();
-      for (const auto & p : points)
+      const double * query = queries[n].data();
+      if (lists.NeedsRebuild(n, query, radius))
       {
-        nearest = std::min(nearest,
-                           std::sqrt((p[0] - queries[n][0]) * (p[0] - queries[n][0]) +
-                                     (p[1] - queries[n][1]) * (p[1] - queries[n][1]) +
-                                     (p[2] - queries[n][2]) * (p[2] - queries[n][2])));
+        lists.Rebuild(n, tree, query, radius);
+        ++rebuilds;
       }
-      const bool found = nearest < radius;
-      if (pruning.MaySkip(n, radius))
+      ++searches;
+      std::vector<std::pair<double, size_t>> all;
+      for (size_t j = 0; j < points.size(); ++j)
       {
-        ++skipped;
-        wrong += found ? 1 : 0;
-        continue;
+        double squaredDistance = 0.0;
+        for (unsigned int d = 0; d < 3; ++d)
+        {
+          squaredDistance += (query[d] - points[j][d]) * (query[d] - points[j][d]);
+        }
+        if (squaredDistance < squaredRadius)
+        {
+          all.emplace_back(squaredDistance, j);
+        }
       }
-      pruning.Record(n, radius, found);
+      std::sort(all.begin(), all.end());
+      std::vector<std::pair<double, size_t>> visited;
+      lists.ForEachWithin(n, points, query, squaredRadius, [&visited](size_t index, double squaredDistance) {
+        visited.emplace_back(squaredDistance, index);
+      });
+      std::sort(visited.begin(), visited.end());
+      wrong += visited == all ? 0 : 1;
+      std::array<size_t, 8> indices{};
+      std::array<double, 8> distances{};
+      const size_t          count = lists.Search(n, points, query, 8, squaredRadius, indices.data(), distances.data());
+      wrong += count == std::min<size_t>(8, all.size()) ? 0 : 1;
+      for (size_t j = 0; j < count && j < all.size(); ++j)
+      {
+        wrong += indices[j] == all[j].second && distances[j] == all[j].first ? 0 : 1;
+      }
+      found += count;
     }
-    // Move the points, all along +x (towards some queries) and each a little at random: not at all every fifth
-    // round, far once, a little otherwise.
-    const double step = round % 5 == 4 ? 0.0 : (round == 10 ? 3.0 : 0.2);
-    double       largest = 0.0;
-    for (auto & p : points)
+    // Move the queries: not at all every fifth round, each one far in its own round, a little otherwise.
+    for (size_t n = 0; n < queries.size(); ++n)
     {
-      const std::array<double, 3> move{ 0.8 * step,
-                                        0.3 * step * (uniform(engine) - 0.5),
-                                        0.3 * step * (uniform(engine) - 0.5) };
+      const double step = round % 5 == 4 ? 0.0 : (n % 40 == round ? 2.0 : 0.05);
       for (unsigned int d = 0; d < 3; ++d)
       {
-        p[d] += move[d];
+        queries[n][d] += step * (uniform(engine) - 0.5);
       }
-      largest = std::max(largest, std::sqrt(move[0] * move[0] + move[1] * move[1] + move[2] * move[2]));
     }
-    pruning.AddDrift(largest);
   }
-  std::cout << "empty search pruning: " << skipped << " of " << 40 * queries.size() << " searches skipped, " << wrong
-            << " of them wrongly" << std::endl;
+  std::cout << "neighbour candidate lists: " << searches << " searches, " << rebuilds << " lists built, " << found
+            << " neighbours found, " << wrong << " answers wrong" << std::endl;
   ITK_TEST_EXPECT_EQUAL(wrong, static_cast<size_t>(0));
-  ITK_TEST_EXPECT_TRUE(skipped > 2000);
+  ITK_TEST_EXPECT_TRUE(found > 10000);
+  ITK_TEST_EXPECT_TRUE(rebuilds > queries.size() && 3 * rebuilds < searches);
   return EXIT_SUCCESS;
 }
 
@@ -683,7 +709,7 @@ itkBSplineCoherentPointDriftRegistrationMethodTest(int, char *[])
   if (TestBendingMatrix() != EXIT_SUCCESS || TestSupportWeights() != EXIT_SUCCESS ||
       TestSampleNormalOperator() != EXIT_SUCCESS || TestCoarseCorrection() != EXIT_SUCCESS ||
       TestConjugateGradient() != EXIT_SUCCESS || TestNearestWithinRadius() != EXIT_SUCCESS ||
-      TestEmptySearchPruning() != EXIT_SUCCESS)
+      TestNeighborCandidateLists() != EXIT_SUCCESS)
   {
     return EXIT_FAILURE;
   }
