@@ -29,7 +29,6 @@
 #include "itkNeighborCandidateLists.h"
 #include "itkPointCloudKdTree.h"
 #include "itkPointsLocator.h"
-#include "itkSpatialJacobianEvaluator.h"
 #include "itkVectorContainer.h"
 
 #include "itk_eigen.h"
@@ -70,14 +69,16 @@ DrawSampleIndices(std::vector<IdentifierType> candidates, unsigned int wanted, i
 /** The cubic B-spline support of \c point on the control lattice \c coefficients (a coefficient image of the
  * transform), separably: the support is the 4 x 4 x 4 block of coefficients from the corner \c first (an index
  * i + n0 (j + n1 k) in a BSplineTransform's per-dimension parameter layout), with the weight
- * weights[a] weights[4 + b] weights[8 + c] at (i + a, j + b, k + c). False, and nothing written, when the support
- * leaves the lattice (the point is outside the transform's domain). */
+ * weights[a] weights[4 + b] weights[8 + c] at (i + a, j + b, k + c); \c derivatives, when given, receives the
+ * weights' derivatives with respect to the continuous index along their axis, in the same layout. False, and nothing
+ * written, when the support leaves the lattice (the point is outside the transform's domain). */
 template <typename TImage, typename TPoint>
 bool
 BSplineSeparableSupport(const TImage *           coefficients,
                         const TPoint &           point,
                         unsigned int &           first,
-                        std::array<double, 12> & weights)
+                        std::array<double, 12> & weights,
+                        std::array<double, 12> * derivatives = nullptr)
 {
   ContinuousIndex<double, 3> u;
   coefficients->TransformPhysicalPointToContinuousIndex(point, u);
@@ -100,6 +101,10 @@ BSplineSeparableSupport(const TImage *           coefficients,
     for (long a = 0; a < 4; ++a)
     {
       weights[4 * d + a] = CubicBSpline(u[d] - static_cast<double>(corner[d] + a));
+      if (derivatives != nullptr)
+      {
+        (*derivatives)[4 * d + a] = CubicBSplineDerivative(u[d] - static_cast<double>(corner[d] + a));
+      }
     }
   }
   first = static_cast<unsigned int>(corner[0] +
@@ -162,6 +167,67 @@ Determinant3(const TMatrix & a)
   return a(0, 0) * (a(1, 1) * a(2, 2) - a(1, 2) * a(2, 1)) - a(0, 1) * (a(1, 0) * a(2, 2) - a(1, 2) * a(2, 0)) +
          a(0, 2) * (a(1, 0) * a(2, 1) - a(1, 1) * a(2, 0));
 }
+
+/** The determinant of the spatial Jacobian of x -> x + sum_j w_j(x) c_j at a sample whose separable support (corner
+ * \c first on a lattice whose first two axes have \c size0 and \c size1 coefficients, \c weights and their index
+ * derivatives \c derivatives as BSplineSeparableSupport gives them) is fixed: the coefficients of coordinate d are
+ * \c coefficients[d] (a BSplineTransform's per-dimension layout), and \c indexFromPhysical is d index / d x of the
+ * lattice. Contracted separably, as detail::SpatialJacobianEvaluator does for a BSplineTransform. */
+inline double
+SeparableSupportJacobianDeterminant(size_t                                       size0,
+                                    size_t                                       size1,
+                                    unsigned int                                 first,
+                                    const std::array<double, 12> &               weights,
+                                    const std::array<double, 12> &               derivatives,
+                                    const std::array<const double *, 3> &        coefficients,
+                                    const std::array<std::array<double, 3>, 3> & indexFromPhysical)
+{
+  // gradient[d][j] = d displacement_d / d index_j
+  double gradient[3][3] = {};
+  for (unsigned int c = 0; c < 4; ++c)
+  {
+    double plane[3][3] = {}; // [d][0: w_x w_y, 1: w'_x w_y, 2: w_x w'_y]
+    for (unsigned int b = 0; b < 4; ++b)
+    {
+      const size_t rowStart = first + size0 * (b + size1 * c);
+      for (unsigned int d = 0; d < 3; ++d)
+      {
+        const double * row = coefficients[d] + rowStart;
+        double         value = 0.0;
+        double         slope = 0.0;
+        for (unsigned int a = 0; a < 4; ++a)
+        {
+          value += weights[a] * row[a];
+          slope += derivatives[a] * row[a];
+        }
+        plane[d][0] += weights[4 + b] * value;
+        plane[d][1] += weights[4 + b] * slope;
+        plane[d][2] += derivatives[4 + b] * value;
+      }
+    }
+    for (unsigned int d = 0; d < 3; ++d)
+    {
+      gradient[d][0] += weights[8 + c] * plane[d][1];
+      gradient[d][1] += weights[8 + c] * plane[d][2];
+      gradient[d][2] += derivatives[8 + c] * plane[d][0];
+    }
+  }
+  Eigen::Matrix3d jacobian;
+  for (unsigned int d = 0; d < 3; ++d)
+  {
+    for (unsigned int k = 0; k < 3; ++k)
+    {
+      double sum = d == k ? 1.0 : 0.0;
+      for (unsigned int j = 0; j < 3; ++j)
+      {
+        sum += gradient[d][j] * indexFromPhysical[j][k];
+      }
+      jacobian(d, k) = sum;
+    }
+  }
+  return Determinant3(jacobian);
+}
+
 } // namespace detail
 
 template <typename TFixedMesh, typename TMovingMesh>
@@ -337,6 +403,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   std::vector<PointType>              y;
   std::vector<unsigned int>           firsts;
   std::vector<std::array<double, 12>> weights;
+  std::vector<std::array<double, 12>> derivativeWeights; // for the fold checks' Jacobians
   {
     std::vector<IdentifierType> candidates(fixedMesh->GetNumberOfPoints());
     for (IdentifierType i = 0; i < candidates.size(); ++i)
@@ -348,13 +415,15 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
       const PointType        p = fixedMesh->GetPoint(id);
       unsigned int           first = 0;
       std::array<double, 12> w{};
-      if (!detail::BSplineSeparableSupport(coefficients[0].GetPointer(), p, first, w))
+      std::array<double, 12> dw{};
+      if (!detail::BSplineSeparableSupport(coefficients[0].GetPointer(), p, first, w, &dw))
       {
         continue;
       }
       y.push_back(p);
       firsts.push_back(first);
       weights.push_back(w);
+      derivativeWeights.push_back(dw);
     }
   }
   const size_t numberOfFixed = y.size();
@@ -432,6 +501,16 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   {
     coarseCorrection =
       std::make_unique<detail::BSplineLatticeCoarseCorrection>(normalOperator, m_NumberOfCoarseControlPointsPerAxis);
+  }
+
+  // d index / d x of the control lattice, for the fold checks.
+  std::array<std::array<double, 3>, 3> indexFromPhysical{};
+  for (unsigned int j = 0; j < Dimension; ++j)
+  {
+    for (unsigned int k = 0; k < Dimension; ++k)
+    {
+      indexFromPhysical[j][k] = coefficients[0]->GetInverseDirection()(j, k) / gridSpacing[j];
+    }
   }
 
   // The coefficients c (one column per dimension) and the mapped samples Y + B c.
@@ -765,18 +844,31 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     const RowMajorCoefficients rhs = basis.transpose() * right;
     const double               scale = sigma2 / (spacing * spacing) * totalMass / 1000.0;
     Eigen::MatrixXd            solved = coefficient;
-    const auto                 minimumDeterminantOf = [&](const Eigen::MatrixXd & values) {
-      setCoefficients(values);
-      detail::SpatialJacobianEvaluator<double, Dimension> jacobian;
-      jacobian.Initialize(transform);
-      double                                                                   minimum = NumericTraits<double>::max();
-      typename detail::SpatialJacobianEvaluator<double, Dimension>::MatrixType matrix;
-      for (size_t m = 0; m < numberOfFixed; ++m)
-      {
-        jacobian.Evaluate(y[m], matrix);
-        minimum = std::min(minimum, detail::Determinant3(matrix));
-      }
-      return minimum;
+    // The smallest det J at the target samples, from their fixed supports (in chunks over the work units).
+    const auto minimumDeterminantOf = [&](const Eigen::MatrixXd & values) {
+      const std::array<const double *, Dimension> columns{ values.col(0).data(),
+                                                           values.col(1).data(),
+                                                           values.col(2).data() };
+      const size_t                                chunks = std::min<size_t>(numberOfFixed, 64);
+      std::vector<double>                         chunkMinimum(chunks, NumericTraits<double>::max());
+      threader->ParallelizeArray(
+        0,
+        chunks,
+        [&](SizeValueType c) {
+          for (size_t m = c * numberOfFixed / chunks; m < (c + 1) * numberOfFixed / chunks; ++m)
+          {
+            chunkMinimum[c] = std::min(chunkMinimum[c],
+                                       detail::SeparableSupportJacobianDeterminant(gridSize[0],
+                                                                                   gridSize[1],
+                                                                                   normalOperator.GetFirsts()[m],
+                                                                                   normalOperator.GetWeights()[m],
+                                                                                   derivativeWeights[m],
+                                                                                   columns,
+                                                                                   indexFromPhysical));
+          }
+        },
+        nullptr);
+      return *std::min_element(chunkMinimum.begin(), chunkMinimum.end());
     };
     for (unsigned int attempt = 0;; ++attempt)
     {

@@ -94,6 +94,7 @@ public:
                                  << " x " << size[1] << " x " << size[2] << " lattice");
       }
     }
+    m_Regularizer.makeCompressed();
     m_RegularizerDiagonal = m_Regularizer.diagonal();
   }
 
@@ -119,10 +120,30 @@ public:
       itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: " << in.rows() << " rows for " << m_Regularizer.rows()
                                << " coefficients");
     }
-    out.noalias() = m_Regularizer * in;
-    out *= m_RegularizerWeight;
+    out.resize(in.rows(), 3);
     const double * source = in.data();
     double *       target = out.data();
+    // s R in, row by row, each row's three sums held in registers.
+    const auto * rowStarts = m_Regularizer.outerIndexPtr();
+    const auto * columns = m_Regularizer.innerIndexPtr();
+    const auto * values = m_Regularizer.valuePtr();
+    for (Eigen::Index row = 0; row < m_Regularizer.rows(); ++row)
+    {
+      std::array<double, 3> sum{ 0.0, 0.0, 0.0 };
+      for (auto k = rowStarts[row]; k < rowStarts[row + 1]; ++k)
+      {
+        const double   value = values[k];
+        const double * column = source + 3 * static_cast<Eigen::Index>(columns[k]);
+        for (unsigned int d = 0; d < 3; ++d)
+        {
+          sum[d] += value * column[d];
+        }
+      }
+      for (unsigned int d = 0; d < 3; ++d)
+      {
+        target[3 * row + d] = sum[d] * m_RegularizerWeight;
+      }
+    }
     for (size_t m = 0; m < m_Firsts.size(); ++m)
     {
       const double mass = m_Mass[static_cast<Eigen::Index>(m)];

@@ -23,6 +23,7 @@
 #include "itkBSplineLatticeCoarseCorrection.h"
 #include "itkNeighborCandidateLists.h"
 #include "itkShapeMatchingTestMeshes.h"
+#include "itkSpatialJacobianEvaluator.h"
 #include "itkTestingMacros.h"
 #include "itkTranslationTransform.h"
 
@@ -147,6 +148,24 @@ TestSupportWeights()
   const size_t                           perDimension = transform->GetNumberOfParametersPerDimension();
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   double                                 largest = 0.0;
+  // The fold checks' determinants from the separable supports, against SpatialJacobianEvaluator's.
+  itk::detail::SpatialJacobianEvaluator<double, 3> evaluator;
+  evaluator.Initialize(transform);
+  const auto *                         lattice = transform->GetCoefficientImages()[0].GetPointer();
+  const auto                           latticeSize = lattice->GetLargestPossibleRegion().GetSize();
+  std::array<std::array<double, 3>, 3> indexFromPhysical{};
+  for (unsigned int j = 0; j < 3; ++j)
+  {
+    for (unsigned int k = 0; k < 3; ++k)
+    {
+      indexFromPhysical[j][k] = lattice->GetInverseDirection()(j, k) / lattice->GetSpacing()[j];
+    }
+  }
+  const std::array<const double *, 3> columns{ parameters.data_block(),
+                                               parameters.data_block() + perDimension,
+                                               parameters.data_block() + 2 * perDimension };
+  double                              largestDeterminantDifference = 0.0;
+  double                              smallestDeterminant = 1.0;
   for (unsigned int trial = 0; trial < 200; ++trial)
   {
     BSplineType::InputPointType p;
@@ -161,6 +180,17 @@ TestSupportWeights()
       std::cerr << "a point inside the domain has no support" << std::endl;
       return EXIT_FAILURE;
     }
+    unsigned int           first = 0;
+    std::array<double, 12> separable{};
+    std::array<double, 12> derivatives{};
+    ITK_TEST_EXPECT_TRUE(itk::detail::BSplineSeparableSupport(lattice, p, first, separable, &derivatives));
+    const double determinant = itk::detail::SeparableSupportJacobianDeterminant(
+      latticeSize[0], latticeSize[1], first, separable, derivatives, columns, indexFromPhysical);
+    itk::Matrix<double, 3, 3> jacobian;
+    evaluator.Evaluate(p, jacobian);
+    largestDeterminantDifference =
+      std::max(largestDeterminantDifference, std::abs(determinant - itk::detail::Determinant3(jacobian)));
+    smallestDeterminant = std::min(smallestDeterminant, determinant);
     const auto expected = transform->TransformPoint(p);
     for (unsigned int d = 0; d < 3; ++d)
     {
@@ -177,6 +207,10 @@ TestSupportWeights()
   std::array<double, 64>       weights{};
   std::array<unsigned int, 64> indices{};
   std::cout << "support weights against TransformPoint: largest difference " << largest << " mm" << std::endl;
+  std::cout << "fold-check determinants against SpatialJacobianEvaluator: largest difference "
+            << largestDeterminantDifference << " (smallest determinant " << smallestDeterminant << ")" << std::endl;
+  ITK_TEST_EXPECT_TRUE(largestDeterminantDifference < 1e-12);
+  ITK_TEST_EXPECT_TRUE(smallestDeterminant < 0.9); // the coefficients deform the lattice
   if (largest > 1e-9 ||
       itk::detail::BSplineSupportWeights(transform->GetCoefficientImages()[0].GetPointer(), outside, weights, indices))
   {
