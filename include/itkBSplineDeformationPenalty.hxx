@@ -20,6 +20,7 @@
 
 #include "itkBSplineDeformationPenalty.h"
 #include "itkCubicBSplineKernel.h"
+#include <algorithm>
 #include <cmath>
 
 namespace itk
@@ -154,19 +155,33 @@ BSplineDeformationPenalty<TParametersValueType, NDimensions>::ApplySeparable(
     const size_t           outer = total / (n * stride);
     for (size_t o = 0; o < outer; ++o)
     {
-      for (size_t inner = 0; inner < stride; ++inner)
+      const size_t base = o * n * stride;
+      for (size_t i = 0; i < n; ++i)
       {
-        const size_t base = o * n * stride + inner;
-        for (size_t i = 0; i < n; ++i)
+        const size_t jBegin = i >= 3 ? i - 3 : 0;
+        const size_t jEnd = std::min(n, i + 4);
+        double *     out = next.data() + base + i * stride;
+        if (stride == 1)
         {
-          double       sum = 0.0;
-          const size_t jBegin = i >= 3 ? i - 3 : 0;
-          const size_t jEnd = std::min(n, i + 4);
+          double sum = 0.0;
           for (size_t j = jBegin; j < jEnd; ++j)
           {
-            sum += matrix[i * n + j] * current[base + j * stride];
+            sum += matrix[i * n + j] * current[base + j];
           }
-          next[base + i * stride] = sum;
+          *out = sum;
+          continue;
+        }
+        // The lines along this axis side by side: the innermost loop runs over contiguous values. Each value's sum
+        // still runs over j in order.
+        std::fill(out, out + stride, 0.0);
+        for (size_t j = jBegin; j < jEnd; ++j)
+        {
+          const double   weight = matrix[i * n + j];
+          const double * in = current.data() + base + j * stride;
+          for (size_t inner = 0; inner < stride; ++inner)
+          {
+            out[inner] += weight * in[inner];
+          }
         }
       }
     }
