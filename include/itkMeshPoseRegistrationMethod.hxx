@@ -170,7 +170,7 @@ SampleMeshSurface(const TMesh *                     mesh,
       soup.push_back(
         { { { t[0][0], t[0][1], t[0][2] } }, { { t[1][0], t[1][1], t[1][2] } }, { { t[2][0], t[2][1], t[2][2] } } });
     }
-    surface->Build(std::move(soup));
+    surface->Build(std::move(soup), 4, false); // distances only
   }
   std::vector<Eigen::Vector3d> samples;
   samples.reserve(count);

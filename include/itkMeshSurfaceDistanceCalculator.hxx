@@ -67,7 +67,7 @@ MeshSurfaceDistanceCalculator<TSourceMesh, TTargetMesh>::Compute()
     itkExceptionMacro(<< "The source mesh has no vertex");
   }
   HierarchyType hierarchy;
-  hierarchy.Build(ExtractTriangles(m_TargetMesh.GetPointer()));
+  hierarchy.Build(ExtractTriangles(m_TargetMesh.GetPointer()), 4, false); // distances only
   if (hierarchy.GetNumberOfTriangles() == 0)
   {
     itkExceptionMacro(<< "The target mesh has no triangle");

@@ -75,7 +75,7 @@ MeshSurfaceDistanceMetricv4<TFixedMesh, TMovingMesh, TDistanceImage>::Initialize
     {
       itkExceptionMacro(<< "The moving mesh has no triangle");
     }
-    m_Hierarchy.Build(std::move(triangles));
+    m_Hierarchy.Build(std::move(triangles), 4, false); // distances only
     m_TriangleBounds.clear();
     for (const auto & triangle : m_Hierarchy.GetTriangles())
     {
