@@ -183,35 +183,9 @@ SeparableSupportJacobianDeterminant(size_t                                      
                                     const std::array<std::array<double, 3>, 3> & indexFromPhysical)
 {
   // gradient[d][j] = d displacement_d / d index_j
-  double gradient[3][3] = {};
-  for (unsigned int c = 0; c < 4; ++c)
-  {
-    double plane[3][3] = {}; // [d][0: w_x w_y, 1: w'_x w_y, 2: w_x w'_y]
-    for (unsigned int b = 0; b < 4; ++b)
-    {
-      const size_t rowStart = first + size0 * (b + size1 * c);
-      for (unsigned int d = 0; d < 3; ++d)
-      {
-        const double * row = coefficients[d] + rowStart;
-        double         value = 0.0;
-        double         slope = 0.0;
-        for (unsigned int a = 0; a < 4; ++a)
-        {
-          value += weights[a] * row[a];
-          slope += derivatives[a] * row[a];
-        }
-        plane[d][0] += weights[4 + b] * value;
-        plane[d][1] += weights[4 + b] * slope;
-        plane[d][2] += derivatives[4 + b] * value;
-      }
-    }
-    for (unsigned int d = 0; d < 3; ++d)
-    {
-      gradient[d][0] += weights[8 + c] * plane[d][1];
-      gradient[d][1] += weights[8 + c] * plane[d][2];
-      gradient[d][2] += derivatives[8 + c] * plane[d][0];
-    }
-  }
+  double gradient[3][3];
+  CubicBSplineSupportIndexGradient(
+    coefficients.data(), first, size0, size0 * size1, weights.data(), derivatives.data(), gradient);
   Eigen::Matrix3d jacobian;
   for (unsigned int d = 0; d < 3; ++d)
   {
@@ -583,19 +557,6 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   }
 
 
-  // The transform's parameters from the coefficient columns (SetParameters copies them).
-  typename BSplineTransformType::ParametersType parameters(transform->GetNumberOfParameters());
-  const auto                                    setCoefficients = [&](const Eigen::MatrixXd & values) {
-    for (unsigned int d = 0; d < Dimension; ++d)
-    {
-      for (size_t k = 0; k < numberOfCoefficients; ++k)
-      {
-        parameters[d * numberOfCoefficients + k] = values(k, d);
-      }
-    }
-    transform->SetParameters(parameters);
-  };
-
   const unsigned int  forwardNeighbors = std::min<unsigned int>(m_NumberOfNeighbors, numberOfMoving);
   const unsigned int  reverseNeighbors = std::min<unsigned int>(m_NumberOfNeighbors, numberOfFixed);
   double              lambda = m_RegularizationWeight;
@@ -660,20 +621,23 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
           {
             forwardLists.Rebuild(m, movingTree, q.data(), radius);
           }
-          std::array<size_t, 64>               neighbors{};
-          std::array<double, 64>               squaredDistances{};
-          detail::NearestWithinRadiusResultSet nearest(
-            forwardNeighbors, radius2, neighbors.data(), squaredDistances.data());
-          auto & within = pairs[m];
+          std::array<size_t, 64> neighbors{};
+          std::array<double, 64> squaredDistances{};
+          auto &                 within = pairs[m];
           within.clear();
-          forwardLists.ForEachWithin(m, x, q.data(), radius2, [&](size_t n, double squaredDistance) {
-            nearest.addPoint(squaredDistance, n);
-            if (reverse)
-            {
-              within.emplace_back(static_cast<unsigned int>(n), squaredDistance);
-            }
-          });
-          const size_t           found = nearest.size();
+          const size_t           found = forwardLists.Search(m,
+                                                   x,
+                                                   q.data(),
+                                                   forwardNeighbors,
+                                                   radius2,
+                                                   neighbors.data(),
+                                                   squaredDistances.data(),
+                                                   [&](size_t n, double d2) {
+                                                     if (reverse)
+                                                     {
+                                                       within.emplace_back(static_cast<unsigned int>(n), d2);
+                                                     }
+                                                   });
           double                 total = 0.0;
           std::array<double, 64> g{};
           for (size_t j = 0; j < found; ++j)
@@ -967,7 +931,16 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   m_StopConditionDescription = stop.str();
   m_FinalRegularizationWeight = lambda;
 
-  setCoefficients(coefficient);
+  // The transform's parameters from the coefficient columns (SetParameters copies them).
+  typename BSplineTransformType::ParametersType parameters(transform->GetNumberOfParameters());
+  for (unsigned int d = 0; d < Dimension; ++d)
+  {
+    for (size_t k = 0; k < numberOfCoefficients; ++k)
+    {
+      parameters[d * numberOfCoefficients + k] = coefficient(k, d);
+    }
+  }
+  transform->SetParameters(parameters);
   auto * output = static_cast<DecoratedTransformType *>(this->ProcessObject::GetOutput(0));
   output->Set(transform);
   this->UpdateProgress(1.0f);

@@ -130,11 +130,10 @@ private:
   void
   UpdateGramMatrices(const MeshSizeType & meshSize);
 
-  /** y = (A_0 (x) A_1 (x) ... ) c for per-axis symmetric matrices, c with axis 0 fastest. */
+  /** out = A in along one axis of the control lattice (the lines along \c axis, each multiplied by the banded
+   * matrix A of that axis), for values with axis 0 fastest. */
   void
-  ApplySeparable(const std::vector<const GramMatrixType *> & matrices,
-                 const TParametersValueType *                coefficients,
-                 std::vector<double> &                       result) const;
+  ApplyAlongAxis(const GramMatrixType & matrix, unsigned int axis, const double * in, double * out) const;
 
   double
   EvaluateBendingEnergy(const BSplineTransformType & transform, DerivativeType * gradient, double gradientFactor);

@@ -19,6 +19,7 @@
 #define itkCubicBSplineKernel_h
 
 #include <cmath>
+#include <cstddef>
 
 namespace itk
 {
@@ -107,6 +108,59 @@ CubicBSplineWeights(double t, double weights[4])
   weights[1] = (4.0 - 6.0 * t * t + 3.0 * t * t * t) / 6.0;
   weights[2] = (4.0 - 6.0 * s * s + 3.0 * s * s * s) / 6.0;
   weights[3] = t * t * t / 6.0;
+}
+/** The index gradient G(d, j) = d displacement_d / d index_j of a 3-D cubic B-spline displacement at a point whose
+ * 4 x 4 x 4 support starts at the linear index \c first of the coefficient buffers \c coefficients[d] (the first
+ * axis fastest, \c stride1 and \c stride2 between neighbours along the second and third axes). \c weights and
+ * \c derivatives hold the support's weights and their derivatives per axis, four per axis (weights[4 a + k]).
+ * Contracted separably: each row of 4 coefficients along the first axis with that axis' weights and derivatives,
+ * then the rows with the second axis' factors, then the planes with the third's (about a third of the products of
+ * the 64-term sum). \c gradient is overwritten. */
+template <typename TCoefficient>
+void
+CubicBSplineSupportIndexGradient(const TCoefficient * const coefficients[3],
+                                 size_t                     first,
+                                 size_t                     stride1,
+                                 size_t                     stride2,
+                                 const double *             weights,
+                                 const double *             derivatives,
+                                 double                     gradient[3][3])
+{
+  for (unsigned int d = 0; d < 3; ++d)
+  {
+    for (unsigned int j = 0; j < 3; ++j)
+    {
+      gradient[d][j] = 0.0;
+    }
+  }
+  for (unsigned int c = 0; c < 4; ++c)
+  {
+    double plane[3][3] = {}; // [d][0: w_x w_y, 1: w'_x w_y, 2: w_x w'_y]
+    for (unsigned int b = 0; b < 4; ++b)
+    {
+      const size_t rowStart = first + b * stride1 + c * stride2;
+      for (unsigned int d = 0; d < 3; ++d)
+      {
+        const TCoefficient * row = coefficients[d] + rowStart;
+        double               value = 0.0;
+        double               slope = 0.0;
+        for (unsigned int a = 0; a < 4; ++a)
+        {
+          value += weights[a] * static_cast<double>(row[a]);
+          slope += derivatives[a] * static_cast<double>(row[a]);
+        }
+        plane[d][0] += weights[4 + b] * value;
+        plane[d][1] += weights[4 + b] * slope;
+        plane[d][2] += derivatives[4 + b] * value;
+      }
+    }
+    for (unsigned int d = 0; d < 3; ++d)
+    {
+      gradient[d][0] += weights[8 + c] * plane[d][1];
+      gradient[d][1] += weights[8 + c] * plane[d][2];
+      gradient[d][2] += derivatives[8 + c] * plane[d][0];
+    }
+  }
 }
 } // namespace detail
 } // namespace itk

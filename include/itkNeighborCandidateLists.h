@@ -23,6 +23,8 @@
 
 #include <array>
 #include <cmath>
+#include <cstddef>
+#include <type_traits>
 #include <vector>
 
 namespace itk
@@ -123,8 +125,9 @@ public:
 
   /** The at most k points nearest to \c query among query n's candidates at a squared distance below
    * \c squaredRadius, nearest first: SearchNearestWithinRadius()'s answer while NeedsRebuild() is false. Returns
-   * how many were found. */
-  template <typename TPoints>
+   * how many were found. \c visitWithin, when given, is also called as visitWithin(index, squaredDistance) for every
+   * candidate within the radius (the k nearest among them or not), in list order. */
+  template <typename TPoints, typename TVisit = std::nullptr_t>
   size_t
   Search(size_t          n,
          const TPoints & points,
@@ -132,15 +135,20 @@ public:
          size_t          k,
          double          squaredRadius,
          size_t *        indices,
-         double *        squaredDistances) const
+         double *        squaredDistances,
+         TVisit &&       visitWithin = nullptr) const
   {
     NearestWithinRadiusResultSet result(k, squaredRadius, indices, squaredDistances);
-    if (k > 0)
-    {
-      this->ForEachWithin(n, points, query, squaredRadius, [&result](size_t index, double squaredDistance) {
+    this->ForEachWithin(n, points, query, squaredRadius, [&](size_t index, double squaredDistance) {
+      if (k > 0)
+      {
         result.addPoint(squaredDistance, index);
-      });
-    }
+      }
+      if constexpr (!std::is_same_v<std::decay_t<TVisit>, std::nullptr_t>)
+      {
+        visitWithin(index, squaredDistance);
+      }
+    });
     return result.size();
   }
 

@@ -23,6 +23,7 @@
 #include "itkCompositeTransform.h"
 #include "itkMatrix.h"
 #include "itkTransform.h"
+#include <array>
 #include <memory>
 #include <vector>
 
@@ -170,6 +171,28 @@ public:
     }
   }
 
+  /** Writes \f$\partial T / \partial x\f$ at \c points[k] into \c jacobians[k], k = 0 .. count - 1, as Evaluate()
+   * does (up to rounding). For a 3-D BSplineTransform and a row of points that share their coordinates along the
+   * second and third axes of the coefficient lattice (a row of an image grid aligned with the lattice), the
+   * coefficients are contracted along those two axes once per lattice node of the row instead of once per point;
+   * any other row is evaluated point by point. Thread-safe. */
+  void
+  EvaluateRow(const PointType * points, size_t count, MatrixType * jacobians) const
+  {
+    if constexpr (NDimensions == 3)
+    {
+      if (m_Method == Method::BSpline && m_Coefficients[0] != nullptr && count >= 8)
+      {
+        this->EvaluateBSplineRow(points, count, jacobians);
+        return;
+      }
+    }
+    for (size_t k = 0; k < count; ++k)
+    {
+      this->Evaluate(points[k], jacobians[k]);
+    }
+  }
+
 private:
   void
   InitializeBSpline(const BSplineTransformType * bspline)
@@ -202,40 +225,16 @@ private:
       return;
     }
     double index[NDimensions];
-    for (unsigned int i = 0; i < NDimensions; ++i)
+    if (!this->LatticeIndex(point, index))
     {
-      index[i] = 0.0;
-      for (unsigned int j = 0; j < NDimensions; ++j)
-      {
-        index[i] += m_PhysicalToIndex(i, j) * (point[j] - m_GridOrigin[j]);
-      }
-    }
-    // Same validity rule as BSplineTransform::InsideValidRegion (outside: zero displacement).
-    for (unsigned int i = 0; i < NDimensions; ++i)
-    {
-      const double maxLimit = static_cast<double>(m_GridSize[i]) - 2.0;
-      if (Math::FloatAlmostEqual(index[i], maxLimit, 4))
-      {
-        index[i] = Math::FloatAddULP(maxLimit, -6);
-      }
-      else if (index[i] >= maxLimit || index[i] < 1.0)
-      {
-        return;
-      }
+      return;
     }
     IndexValueType start[NDimensions];
     double         weights[NDimensions][4];
     double         derivatives[NDimensions][4];
     for (unsigned int i = 0; i < NDimensions; ++i)
     {
-      start[i] = Math::Floor<IndexValueType>(index[i] + 0.5 - 1.5);
-      double u = index[i] - static_cast<double>(start[i]);
-      for (unsigned int k = 0; k < 4; ++k)
-      {
-        weights[i][k] = CubicBSpline(u);
-        derivatives[i][k] = CubicBSplineDerivative(u);
-        u -= 1.0;
-      }
+      start[i] = SupportWeights(index[i], weights[i], derivatives[i]);
     }
     // G(d, j) = d displacement_d / d index_j
     double        gradient[NDimensions][NDimensions] = {};
@@ -248,39 +247,11 @@ private:
     }
     if constexpr (NDimensions == 3)
     {
-      // Separably: each row of 4 coefficients along x is contracted with the x weights and their derivatives, then
-      // the rows with the y factors, then the planes with the z factors (about a third of the products of the
-      // 64-term sum below).
-      for (unsigned int c = 0; c < 4; ++c)
-      {
-        double plane[3][3] = {}; // [d][0: w_x w_y, 1: w'_x w_y, 2: w_x w'_y]
-        for (unsigned int b = 0; b < 4; ++b)
-        {
-          const SizeValueType first = static_cast<SizeValueType>(start[0]) +
-                                      static_cast<SizeValueType>(start[1] + b) * strides[1] +
-                                      static_cast<SizeValueType>(start[2] + c) * strides[2];
-          for (unsigned int d = 0; d < 3; ++d)
-          {
-            const auto * row = m_Coefficients[d] + first;
-            double       value = 0.0;
-            double       slope = 0.0;
-            for (unsigned int a = 0; a < 4; ++a)
-            {
-              value += weights[0][a] * static_cast<double>(row[a]);
-              slope += derivatives[0][a] * static_cast<double>(row[a]);
-            }
-            plane[d][0] += weights[1][b] * value;
-            plane[d][1] += weights[1][b] * slope;
-            plane[d][2] += derivatives[1][b] * value;
-          }
-        }
-        for (unsigned int d = 0; d < 3; ++d)
-        {
-          gradient[d][0] += weights[2][c] * plane[d][1];
-          gradient[d][1] += weights[2][c] * plane[d][2];
-          gradient[d][2] += derivatives[2][c] * plane[d][0];
-        }
-      }
+      const SizeValueType first = static_cast<SizeValueType>(start[0]) +
+                                  static_cast<SizeValueType>(start[1]) * strides[1] +
+                                  static_cast<SizeValueType>(start[2]) * strides[2];
+      CubicBSplineSupportIndexGradient(
+        m_Coefficients, first, strides[1], strides[2], &weights[0][0], &derivatives[0][0], gradient);
     }
     else
     {
@@ -315,6 +286,69 @@ private:
         }
       }
     }
+    this->AddIndexGradient(gradient, jacobian);
+  }
+
+  /** The continuous index of \c point on the coefficient lattice, with BSplineTransform::InsideValidRegion's rule:
+   * false outside the valid region (where the displacement is zero). */
+  bool
+  LatticeIndex(const PointType & point, double index[NDimensions]) const
+  {
+    for (unsigned int i = 0; i < NDimensions; ++i)
+    {
+      index[i] = 0.0;
+      for (unsigned int j = 0; j < NDimensions; ++j)
+      {
+        index[i] += m_PhysicalToIndex(i, j) * (point[j] - m_GridOrigin[j]);
+      }
+    }
+    for (unsigned int i = 0; i < NDimensions; ++i)
+    {
+      if (!this->ClampToValidRegion(i, index[i]))
+      {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  /** False when the continuous index along \c axis is outside the valid region; moves an index at the region's
+   * upper end (within a few ULPs) just inside it, as BSplineTransform does. */
+  bool
+  ClampToValidRegion(unsigned int axis, double & index) const
+  {
+    const double maxLimit = static_cast<double>(m_GridSize[axis]) - 2.0;
+    if (Math::FloatAlmostEqual(index, maxLimit, 4))
+    {
+      index = Math::FloatAddULP(maxLimit, -6);
+    }
+    else if (index >= maxLimit || index < 1.0)
+    {
+      return false;
+    }
+    return true;
+  }
+
+  /** The first lattice node of the support of a continuous index along one axis, and the four weights and their
+   * derivatives. */
+  static IndexValueType
+  SupportWeights(double index, double weights[4], double derivatives[4])
+  {
+    const IndexValueType start = Math::Floor<IndexValueType>(index + 0.5 - 1.5);
+    double               u = index - static_cast<double>(start);
+    for (unsigned int k = 0; k < 4; ++k)
+    {
+      weights[k] = CubicBSpline(u);
+      derivatives[k] = CubicBSplineDerivative(u);
+      u -= 1.0;
+    }
+    return start;
+  }
+
+  /** jacobian += G d index / d x, for the index gradient G(d, j) = d displacement_d / d index_j. */
+  void
+  AddIndexGradient(const double gradient[NDimensions][NDimensions], MatrixType & jacobian) const
+  {
     for (unsigned int d = 0; d < NDimensions; ++d)
     {
       for (unsigned int k = 0; k < NDimensions; ++k)
@@ -326,6 +360,96 @@ private:
         }
         jacobian(d, k) += sum;
       }
+    }
+  }
+
+  /** EvaluateRow() for a 3-D BSplineTransform. */
+  void
+  EvaluateBSplineRow(const PointType * points, size_t count, MatrixType * jacobians) const
+  {
+    // The continuous indices; the row path needs the second and third ones shared by every point.
+    std::vector<std::array<double, 3>> indices(count);
+    for (size_t k = 0; k < count; ++k)
+    {
+      for (unsigned int i = 0; i < 3; ++i)
+      {
+        indices[k][i] = 0.0;
+        for (unsigned int j = 0; j < 3; ++j)
+        {
+          indices[k][i] += m_PhysicalToIndex(i, j) * (points[k][j] - m_GridOrigin[j]);
+        }
+      }
+      if (indices[k][1] != indices[0][1] || indices[k][2] != indices[0][2])
+      {
+        for (size_t n = 0; n < count; ++n)
+        {
+          this->Evaluate(points[n], jacobians[n]);
+        }
+        return;
+      }
+    }
+    double across[2] = { indices[0][1], indices[0][2] };
+    if (!this->ClampToValidRegion(1, across[0]) || !this->ClampToValidRegion(2, across[1]))
+    {
+      for (size_t k = 0; k < count; ++k)
+      {
+        jacobians[k].SetIdentity();
+      }
+      return;
+    }
+    double               weights[3][4];
+    double               derivatives[3][4];
+    const IndexValueType start1 = SupportWeights(across[0], weights[1], derivatives[1]);
+    const IndexValueType start2 = SupportWeights(across[1], weights[2], derivatives[2]);
+    // Per lattice node i along the first axis and coordinate d: the coefficients contracted along the second and
+    // third axes with (w1 w2, w1' w2, w1 w2').
+    const size_t        n0 = m_GridSize[0];
+    const size_t        stride1 = n0;
+    const size_t        stride2 = n0 * m_GridSize[1];
+    std::vector<double> contracted(n0 * 9, 0.0);
+    for (unsigned int c = 0; c < 4; ++c)
+    {
+      for (unsigned int b = 0; b < 4; ++b)
+      {
+        const double valueWeight = weights[1][b] * weights[2][c];
+        const double slope1Weight = derivatives[1][b] * weights[2][c];
+        const double slope2Weight = weights[1][b] * derivatives[2][c];
+        const size_t rowStart = static_cast<size_t>(start1 + static_cast<IndexValueType>(b)) * stride1 +
+                                static_cast<size_t>(start2 + static_cast<IndexValueType>(c)) * stride2;
+        for (unsigned int d = 0; d < 3; ++d)
+        {
+          const TParametersValueType * row = m_Coefficients[d] + rowStart;
+          for (size_t i = 0; i < n0; ++i)
+          {
+            const double value = static_cast<double>(row[i]);
+            contracted[9 * i + 3 * d] += valueWeight * value;
+            contracted[9 * i + 3 * d + 1] += slope1Weight * value;
+            contracted[9 * i + 3 * d + 2] += slope2Weight * value;
+          }
+        }
+      }
+    }
+    for (size_t k = 0; k < count; ++k)
+    {
+      jacobians[k].SetIdentity();
+      double along = indices[k][0];
+      if (!this->ClampToValidRegion(0, along))
+      {
+        continue;
+      }
+      const IndexValueType start0 = SupportWeights(along, weights[0], derivatives[0]);
+      double               gradient[3][3] = {};
+      for (unsigned int a = 0; a < 4; ++a)
+      {
+        const double * node = contracted.data() + 9 * static_cast<size_t>(start0 + static_cast<IndexValueType>(a));
+        for (unsigned int d = 0; d < 3; ++d)
+        {
+          gradient[d][0] += derivatives[0][a] * node[3 * d];
+          gradient[d][1] += weights[0][a] * node[3 * d + 1];
+          gradient[d][2] += weights[0][a] * node[3 * d + 2];
+        }
+      }
+      this->AddIndexGradient(gradient, jacobians[k]);
     }
   }
 

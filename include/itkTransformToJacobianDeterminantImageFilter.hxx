@@ -19,10 +19,11 @@
 #define itkTransformToJacobianDeterminantImageFilter_hxx
 
 #include "itkTransformToJacobianDeterminantImageFilter.h"
-#include "itkImageRegionIteratorWithIndex.h"
+#include "itkImageScanlineIterator.h"
 #include "itkTotalProgressReporter.h"
 #include "itkMatrixDeterminant.h"
 #include <limits>
+#include <vector>
 
 namespace itk
 {
@@ -112,21 +113,30 @@ void
 TransformToJacobianDeterminantImageFilter<TOutputImage, TTransform>::DynamicThreadedGenerateData(
   const OutputImageRegionType & outputRegionForThread)
 {
-  OutputImageType *                          output = this->GetOutput();
-  TotalProgressReporter                      progress(this, output->GetRequestedRegion().GetNumberOfPixels());
-  double                                     minimum = std::numeric_limits<double>::max();
-  double                                     maximum = std::numeric_limits<double>::lowest();
-  typename JacobianEvaluatorType::MatrixType jacobian;
-  typename JacobianEvaluatorType::PointType  point;
-  for (ImageRegionIteratorWithIndex<OutputImageType> it(output, outputRegionForThread); !it.IsAtEnd(); ++it)
+  OutputImageType *     output = this->GetOutput();
+  TotalProgressReporter progress(this, output->GetRequestedRegion().GetNumberOfPixels());
+  double                minimum = std::numeric_limits<double>::max();
+  double                maximum = std::numeric_limits<double>::lowest();
+  // Line by line: the evaluator contracts a B-spline's coefficients once per line where it can.
+  const SizeValueType                                     lineLength = outputRegionForThread.GetSize(0);
+  std::vector<typename JacobianEvaluatorType::PointType>  points(lineLength);
+  std::vector<typename JacobianEvaluatorType::MatrixType> jacobians(lineLength);
+  for (ImageScanlineIterator<OutputImageType> it(output, outputRegionForThread); !it.IsAtEnd(); it.NextLine())
   {
-    output->TransformIndexToPhysicalPoint(it.GetIndex(), point);
-    m_JacobianEvaluator.Evaluate(point, jacobian);
-    const double determinant = detail::MatrixDeterminant(jacobian);
-    it.Set(static_cast<PixelType>(determinant));
-    minimum = std::min(minimum, determinant);
-    maximum = std::max(maximum, determinant);
-    progress.CompletedPixel();
+    IndexType index = it.GetIndex();
+    for (SizeValueType k = 0; k < lineLength; ++k, ++index[0])
+    {
+      output->TransformIndexToPhysicalPoint(index, points[k]);
+    }
+    m_JacobianEvaluator.EvaluateRow(points.data(), lineLength, jacobians.data());
+    for (SizeValueType k = 0; k < lineLength; ++k, ++it)
+    {
+      const double determinant = detail::MatrixDeterminant(jacobians[k]);
+      it.Set(static_cast<PixelType>(determinant));
+      minimum = std::min(minimum, determinant);
+      maximum = std::max(maximum, determinant);
+    }
+    progress.Completed(lineLength);
   }
   const std::lock_guard<std::mutex> lock(m_Mutex);
   m_MinimumDeterminant = std::min(m_MinimumDeterminant, minimum);

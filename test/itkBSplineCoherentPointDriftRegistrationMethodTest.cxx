@@ -687,10 +687,24 @@ TestNeighborCandidateLists()
       });
       std::sort(visited.begin(), visited.end());
       wrong += visited == all ? 0 : 1;
-      std::array<size_t, 8> indices{};
-      std::array<double, 8> distances{};
-      const size_t          count = lists.Search(n, points, query, 8, squaredRadius, indices.data(), distances.data());
+      std::array<size_t, 8>                  indices{};
+      std::array<double, 8>                  distances{};
+      std::vector<std::pair<double, size_t>> alsoVisited;
+      const size_t                           count = lists.Search(
+        n, points, query, 8, squaredRadius, indices.data(), distances.data(), [&alsoVisited](size_t index, double d2) {
+          alsoVisited.emplace_back(d2, index);
+        });
       wrong += count == std::min<size_t>(8, all.size()) ? 0 : 1;
+      // The visitor sees every point within the radius, as ForEachWithin does.
+      std::sort(alsoVisited.begin(), alsoVisited.end());
+      wrong += alsoVisited == all ? 0 : 1;
+      // Without a visitor, the same k nearest.
+      std::array<size_t, 8> plainIndices{};
+      std::array<double, 8> plainDistances{};
+      wrong += lists.Search(n, points, query, 8, squaredRadius, plainIndices.data(), plainDistances.data()) == count &&
+                   plainIndices == indices && plainDistances == distances
+                 ? 0
+                 : 1;
       for (size_t j = 0; j < count && j < all.size(); ++j)
       {
         wrong += indices[j] == all[j].second && distances[j] == all[j].first ? 0 : 1;

@@ -17,6 +17,7 @@
  *=========================================================================*/
 #include "itkBSplineDeformationPenalty.h"
 #include "itkBSplineTransformInitializer.h"
+#include "itkCubicBSplineKernel.h"
 #include "itkImage.h"
 #include "itkMersenneTwisterRandomVariateGenerator.h"
 #include "gtest/gtest.h"
@@ -26,19 +27,13 @@ namespace
 using PenaltyType = itk::BSplineDeformationPenalty<double, 3>;
 using TransformType = PenaltyType::BSplineTransformType;
 
-/** A cubic B-spline transform over [0, 40] x [0, 30] x [0, 20] mm with the given mesh size. */
+/** A cubic B-spline transform over the box from \c origin with the given physical dimensions and mesh size. */
 TransformType::Pointer
-MakeTransform(unsigned int meshSize)
+MakeTransform(const TransformType::MeshSizeType &           mesh,
+              const TransformType::PhysicalDimensionsType & dimensions,
+              const TransformType::OriginType &             origin)
 {
-  auto                                  transform = TransformType::New();
-  TransformType::PhysicalDimensionsType dimensions;
-  dimensions[0] = 40.0;
-  dimensions[1] = 30.0;
-  dimensions[2] = 20.0;
-  TransformType::MeshSizeType mesh;
-  mesh.Fill(meshSize);
-  TransformType::OriginType origin;
-  origin.Fill(0.0);
+  auto                         transform = TransformType::New();
   TransformType::DirectionType direction;
   direction.SetIdentity();
   transform->SetTransformDomainOrigin(origin);
@@ -47,6 +42,21 @@ MakeTransform(unsigned int meshSize)
   transform->SetTransformDomainDirection(direction);
   transform->SetIdentity();
   return transform;
+}
+
+/** A cubic B-spline transform over [0, 40] x [0, 30] x [0, 20] mm with the given mesh size. */
+TransformType::Pointer
+MakeTransform(unsigned int meshSize)
+{
+  TransformType::PhysicalDimensionsType dimensions;
+  dimensions[0] = 40.0;
+  dimensions[1] = 30.0;
+  dimensions[2] = 20.0;
+  TransformType::MeshSizeType mesh;
+  mesh.Fill(meshSize);
+  TransformType::OriginType origin;
+  origin.Fill(0.0);
+  return MakeTransform(mesh, dimensions, origin);
 }
 
 /** Physical position along an axis of each control point of the transform. */
@@ -160,6 +170,111 @@ TEST(BSplineDeformationPenalty, QuadraticDisplacementHasExactBendingEnergy)
   penalty->SetBendingEnergyWeight(0.5);
   EXPECT_NEAR(penalty->Evaluate(*transform, nullptr), 0.5 * 4.0, 1e-9);
   EXPECT_NEAR(penalty->GetLastBendingEnergy(), 4.0, 1e-9);
+}
+
+TEST(BSplineDeformationPenalty, BendingEnergyMatchesQuadratureOfSecondDerivatives)
+{
+  // Random coefficients on a lattice with a different number of cells and a different spacing along each axis: the
+  // energy against a brute-force Gauss quadrature of every second derivative (mixed ones twice) of every
+  // displacement component, averaged over the domain.
+  TransformType::PhysicalDimensionsType dimensions;
+  dimensions[0] = 40.0;
+  dimensions[1] = 18.0;
+  dimensions[2] = 25.0;
+  TransformType::MeshSizeType mesh;
+  mesh[0] = 5;
+  mesh[1] = 3;
+  mesh[2] = 4;
+  TransformType::OriginType origin;
+  origin.Fill(-3.0);
+  auto transform = MakeTransform(mesh, dimensions, origin);
+  RandomizeParameters(*transform, 2.0, 11);
+
+  const TransformType::ParametersType parameters = transform->GetParameters();
+  const size_t                        n0 = mesh[0] + 3;
+  const size_t                        n1 = mesh[1] + 3;
+  const size_t                        count = n0 * n1 * (mesh[2] + 3);
+  double                              spacing[3];
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    spacing[a] = dimensions[a] / mesh[a];
+  }
+  // The derivative of the given orders of displacement component d at lattice coordinates t (control point i at
+  // t = i - 1), in physical units.
+  const auto derivative = [&](unsigned int d, const double t[3], const unsigned int orders[3]) {
+    // The support: control points floor(t) .. floor(t) + 3 along each axis (every other weight is zero).
+    size_t first[3];
+    for (unsigned int a = 0; a < 3; ++a)
+    {
+      first[a] = static_cast<size_t>(std::floor(t[a]));
+    }
+    double sum = 0.0;
+    for (size_t k = first[2]; k < first[2] + 4; ++k)
+    {
+      for (size_t j = first[1]; j < first[1] + 4; ++j)
+      {
+        for (size_t i = first[0]; i < first[0] + 4; ++i)
+        {
+          const size_t at[3] = { i, j, k };
+          double       weight = 1.0;
+          for (unsigned int a = 0; a < 3; ++a)
+          {
+            weight *= itk::detail::CubicBSplineOfOrder(t[a] - (static_cast<double>(at[a]) - 1.0), orders[a]) /
+                      std::pow(spacing[a], orders[a]);
+          }
+          sum += weight * parameters[d * count + i + n0 * (j + n1 * k)];
+        }
+      }
+    }
+    return sum;
+  };
+  // The lattice coordinates above are the transform's: the displacement agrees with TransformPoint.
+  const double                  probeT[3] = { 2.3, 1.6, 0.7 };
+  const unsigned int            none[3] = { 0, 0, 0 };
+  TransformType::InputPointType probe;
+  for (unsigned int a = 0; a < 3; ++a)
+  {
+    probe[a] = origin[a] + probeT[a] * spacing[a];
+  }
+  EXPECT_NEAR(transform->TransformPoint(probe)[1] - probe[1], derivative(1, probeT, none), 1e-9);
+
+  // 4-point Gauss-Legendre per axis and cell: exact for the squared derivatives (degree 6 per axis).
+  const double nodes[4] = { 0.0694318442029737, 0.3300094782075719, 0.6699905217924281, 0.9305681557970263 };
+  const double weights[4] = { 0.1739274225687269, 0.3260725774312731, 0.3260725774312731, 0.1739274225687269 };
+  double       sum = 0.0;
+  for (unsigned int cz = 0; cz < mesh[2]; ++cz)
+  {
+    for (unsigned int cy = 0; cy < mesh[1]; ++cy)
+    {
+      for (unsigned int cx = 0; cx < mesh[0]; ++cx)
+      {
+        for (unsigned int q = 0; q < 64; ++q)
+        {
+          const double t[3] = { cx + nodes[q % 4], cy + nodes[(q / 4) % 4], cz + nodes[q / 16] };
+          const double w = weights[q % 4] * weights[(q / 4) % 4] * weights[q / 16];
+          for (unsigned int d = 0; d < 3; ++d)
+          {
+            for (unsigned int a = 0; a < 3; ++a)
+            {
+              for (unsigned int b = a; b < 3; ++b)
+              {
+                unsigned int orders[3] = { 0, 0, 0 };
+                ++orders[a];
+                ++orders[b];
+                const double value = derivative(d, t, orders);
+                sum += (a == b ? 1.0 : 2.0) * w * value * value;
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+  const double expected = sum / static_cast<double>(mesh[0] * mesh[1] * mesh[2]);
+  auto         penalty = PenaltyType::New();
+  penalty->SetBendingEnergyWeight(1.0);
+  EXPECT_NEAR(penalty->Evaluate(*transform, nullptr), expected, 1e-9 * expected);
+  EXPECT_GT(expected, 0.0);
 }
 
 TEST(BSplineDeformationPenalty, BendingEnergyGradientMatchesFiniteDifferences)

@@ -20,6 +20,7 @@
 #include "itkIdentityTransform.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
 #include "itkRandomBSplineTransformGenerator.h"
+#include "itkSpatialJacobianEvaluator.h"
 #include "itkTestingMacros.h"
 #include "itkTransformToJacobianDeterminantImageFilter.h"
 
@@ -155,6 +156,64 @@ itkTransformToJacobianDeterminantImageFilterTest(int argc, char * argv[])
             << filter->GetMaximumDeterminant() << std::endl;
   ITK_TEST_EXPECT_TRUE(maximumError < 1e-6);
   ITK_TEST_EXPECT_TRUE(std::abs(filter->GetMinimumDeterminant() - minimum) < 1e-6);
+
+  // The evaluator's rows against its points one by one: rows along the lattice's first axis (contracted once per
+  // row) that cross both ends of the valid region, lie outside it, or are short, and slanted rows (point by point).
+  {
+    itk::detail::SpatialJacobianEvaluator<double, 3> evaluator;
+    evaluator.Initialize(bspline);
+    const auto   lattice = bspline->GetCoefficientImages()[0];
+    const auto   latticeOrigin = lattice->GetOrigin();
+    const auto   latticeSpacing = lattice->GetSpacing();
+    const auto   latticeSize = lattice->GetLargestPossibleRegion().GetSize();
+    double       rowError = 0.0;
+    size_t       rows = 0;
+    size_t       deformedPoints = 0;
+    const double extent = latticeSpacing[0] * static_cast<double>(latticeSize[0]);
+    for (unsigned int kind = 0; kind < 4; ++kind)
+    {
+      for (unsigned int r = 0; r < 12; ++r)
+      {
+        // kind 0: inside across, 1: outside across (beyond the third axis), 2: short, 3: slanted.
+        const size_t                           count = kind == 2 ? 5 : 61;
+        std::vector<itk::Point<double, 3>>     points(count);
+        std::vector<itk::Matrix<double, 3, 3>> byRow(count);
+        for (size_t k = 0; k < count; ++k)
+        {
+          const double t = static_cast<double>(k) / static_cast<double>(count - 1);
+          points[k][0] = latticeOrigin[0] - 0.2 * extent + 1.4 * extent * t;
+          points[k][1] = latticeOrigin[1] + latticeSpacing[1] * (1.3 + 0.37 * r);
+          points[k][2] = kind == 1 ? latticeOrigin[2] - 3.0 * latticeSpacing[2]
+                                   : latticeOrigin[2] + latticeSpacing[2] * (1.1 + 0.41 * r);
+          if (kind == 3)
+          {
+            points[k][1] += 2.0 * latticeSpacing[1] * t;
+          }
+        }
+        evaluator.EvaluateRow(points.data(), count, byRow.data());
+        for (size_t k = 0; k < count; ++k)
+        {
+          itk::Matrix<double, 3, 3> single;
+          evaluator.Evaluate(points[k], single);
+          bool identity = true;
+          for (unsigned int i = 0; i < 3; ++i)
+          {
+            for (unsigned int j = 0; j < 3; ++j)
+            {
+              rowError = std::max(rowError, std::abs(byRow[k](i, j) - single(i, j)));
+              identity = identity && single(i, j) == (i == j ? 1.0 : 0.0);
+            }
+          }
+          deformedPoints += identity ? 0 : 1;
+        }
+        ++rows;
+      }
+    }
+    std::cout << "Evaluator rows: " << rows << " rows, " << deformedPoints
+              << " points inside the valid region, max |row - point| = " << rowError << std::endl;
+    ITK_TEST_EXPECT_TRUE(rowError < 1e-12);
+    ITK_TEST_EXPECT_TRUE(deformedPoints > 500);
+  }
 
   // The pipeline re-runs when the transform changes.
   generator->SetSeed(6);
