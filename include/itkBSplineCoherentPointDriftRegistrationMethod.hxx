@@ -296,7 +296,6 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   using ClockType = std::chrono::steady_clock;
   using SparseMatrix = Eigen::SparseMatrix<double>;
   using RowMajorCoefficients = Eigen::Matrix<double, Eigen::Dynamic, Dimension, Eigen::RowMajor>;
-  using Triplet = Eigen::Triplet<double>;
   const auto start = ClockType::now();
   m_TimeLimitReached = false;
   m_SigmaValues.clear();
@@ -443,30 +442,13 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   // Target samples per unit area (the uniform outlier term is measured against it).
   const double density = static_cast<double>(numberOfFixed) / area;
 
-  // B (the samples' B-spline weights) and R (the bending energy of the control lattice).
-  SparseMatrix basis(static_cast<Eigen::Index>(numberOfFixed), static_cast<Eigen::Index>(numberOfCoefficients));
-  {
-    std::vector<Triplet> entries;
-    entries.reserve(numberOfFixed * 64);
-    std::array<double, 64>       w{};
-    std::array<unsigned int, 64> k{};
-    for (size_t m = 0; m < numberOfFixed; ++m)
-    {
-      detail::ExpandSeparableSupport(gridSize[0], gridSize[1], firsts[m], weights[m], w, k);
-      for (unsigned int n = 0; n < 64; ++n)
-      {
-        entries.emplace_back(static_cast<int>(m), static_cast<int>(k[n]), w[n]);
-      }
-    }
-    basis.setFromTriplets(entries.begin(), entries.end());
-  }
   // The M-step's matrix B^T diag(P1) B + s (R + 1e-3 I), applied without being formed.
   SparseMatrix identity(static_cast<Eigen::Index>(numberOfCoefficients),
                         static_cast<Eigen::Index>(numberOfCoefficients));
   identity.setIdentity();
   detail::BSplineSampleNormalOperator normalOperator(
     { gridSize[0], gridSize[1], gridSize[2] },
-    std::move(firsts), // the operator keeps the supports; B above was their last other use
+    std::move(firsts), // the operator keeps the supports: it also applies B (the samples' weights) and B^T
     std::move(weights),
     detail::BSplineLatticeBendingMatrix({ gridSize[0], gridSize[1], gridSize[2] }) + 1e-3 * identity);
   // The preconditioner: Jacobi's, plus a coarse-lattice correction for the smooth errors that Jacobi damps slowly.
@@ -516,7 +498,13 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   // already meet: at most 0.4 and 0.15 control spacings, and less when the surfaces are closer: 10 x the RMS
   // distance from the mapped target samples to their nearest source sample, the floor at most half the start.
   // The mapped target samples Y + B c, kept current with the coefficients.
-  Eigen::MatrixXd mapped = target + basis * coefficient;
+  // Y + B c for coefficients c.
+  const auto mappedBy = [&normalOperator, &target](const Eigen::MatrixXd & values) {
+    RowMajorCoefficients samples;
+    normalOperator.ApplyBasis(RowMajorCoefficients(values), samples);
+    return Eigen::MatrixXd(target + samples);
+  };
+  Eigen::MatrixXd mapped = mappedBy(coefficient);
   double          startDistance = NumericTraits<double>::max();
   if (refining)
   {
@@ -777,7 +765,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     if (momentumCarried && totalMass > 0.0 && !m_MetricValues.empty() &&
         residualAt(mapped) / totalMass > m_MetricValues.back())
     {
-      Eigen::MatrixXd back = target + basis * withoutMomentum;
+      Eigen::MatrixXd back = mappedBy(withoutMomentum);
       mapped.swap(back);
       coefficient = withoutMomentum;
       previousStepAtFloor = false;
@@ -805,9 +793,10 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
         right(m, d) = pulled[m][d] - mass[m] * target(m, d);
       }
     }
-    const RowMajorCoefficients rhs = basis.transpose() * right;
-    const double               scale = sigma2 / (spacing * spacing) * totalMass / 1000.0;
-    Eigen::MatrixXd            solved = coefficient;
+    RowMajorCoefficients rhs;
+    normalOperator.ApplyBasisTranspose(RowMajorCoefficients(right), rhs);
+    const double    scale = sigma2 / (spacing * spacing) * totalMass / 1000.0;
+    Eigen::MatrixXd solved = coefficient;
     // The smallest det J at the target samples, from their fixed supports (in chunks over the work units).
     const auto minimumDeterminantOf = [&](const Eigen::MatrixXd & values) {
       const std::array<const double *, Dimension> columns{ values.col(0).data(),
@@ -901,7 +890,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     }
     coefficient = solved;
     // sigma^2 from the new positions.
-    Eigen::MatrixXd moved = target + basis * coefficient;
+    Eigen::MatrixXd moved = mappedBy(coefficient);
     const double    newResidual = residualAt(moved);
     const double    move = std::sqrt((moved - mapped).squaredNorm() / static_cast<double>(numberOfFixed));
     mapped.swap(moved);

@@ -48,7 +48,8 @@ namespace detail
  * of the M-step of a coherent point drift on the coefficients, applied as the conjugate gradients need it: the matrix
  * itself, which holds every pair of coefficients sharing a sample's support (up to 343 per row), is never built,
  * and a new mass costs nothing. The result equals Eigen's (B^T diag(m) B + s R) X up to rounding (tested against
- * it), and GetDiagonal() the matrix's diagonal, for a Jacobi preconditioner.
+ * it), and GetDiagonal() the matrix's diagonal, for a Jacobi preconditioner. ApplyBasis() and ApplyBasisTranspose()
+ * apply B and B^T alone with the same gathers and scatters (the samples' positions and the M-step's right-hand side).
  * \ingroup FFDShapeMatching
  */
 class BSplineSampleNormalOperator
@@ -151,42 +152,54 @@ public:
       {
         continue;
       }
-      const WeightsType & w = m_Weights[m];
-      // Gather: v = sum over the block of wx[a] wy[b] wz[c] in(row), four contiguous rows (a = 0..3) at a time.
-      std::array<double, 3> v{ 0.0, 0.0, 0.0 };
-      for (unsigned int c = 0; c < 4; ++c)
-      {
-        for (unsigned int b = 0; b < 4; ++b)
-        {
-          const double * rows = source + 3 * (m_Firsts[m] + b * m_RowStride + c * m_SliceStride);
-          const double   wbc = w[4 + b] * w[8 + c];
-          for (unsigned int d = 0; d < 3; ++d)
-          {
-            v[d] += wbc * (w[0] * rows[d] + w[1] * rows[3 + d] + w[2] * rows[6 + d] + w[3] * rows[9 + d]);
-          }
-        }
-      }
+      std::array<double, 3> v = this->GatherSample(source, m);
       for (double & value : v)
       {
         value *= mass;
       }
-      // Scatter: out(row) += wx[a] wy[b] wz[c] v.
-      for (unsigned int c = 0; c < 4; ++c)
+      this->ScatterSample(v, m, target);
+    }
+  }
+
+  /** out = B in: per sample, the three columns of \c in (one row per coefficient) summed over its support with its
+   * weights (one row per sample). */
+  void
+  ApplyBasis(const BlockType & in, BlockType & out) const
+  {
+    if (in.rows() != m_Regularizer.rows())
+    {
+      itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: " << in.rows() << " rows for " << m_Regularizer.rows()
+                               << " coefficients");
+    }
+    out.resize(static_cast<Eigen::Index>(m_Firsts.size()), 3);
+    for (size_t m = 0; m < m_Firsts.size(); ++m)
+    {
+      const std::array<double, 3> v = this->GatherSample(in.data(), m);
+      for (unsigned int d = 0; d < 3; ++d)
       {
-        for (unsigned int b = 0; b < 4; ++b)
-        {
-          double *     rows = target + 3 * (m_Firsts[m] + b * m_RowStride + c * m_SliceStride);
-          const double wbc = w[4 + b] * w[8 + c];
-          for (unsigned int a = 0; a < 4; ++a)
-          {
-            const double weight = wbc * w[a];
-            for (unsigned int d = 0; d < 3; ++d)
-            {
-              rows[3 * a + d] += weight * v[d];
-            }
-          }
-        }
+        out(static_cast<Eigen::Index>(m), d) = v[d];
       }
+    }
+  }
+
+  /** out = B^T in: per sample, its row of \c in spread over its support with its weights (one row per
+   * coefficient). */
+  void
+  ApplyBasisTranspose(const BlockType & in, BlockType & out) const
+  {
+    if (in.rows() != static_cast<Eigen::Index>(m_Firsts.size()))
+    {
+      itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: " << in.rows() << " rows for " << m_Firsts.size()
+                               << " samples");
+    }
+    out.setZero(m_Regularizer.rows(), 3);
+    for (size_t m = 0; m < m_Firsts.size(); ++m)
+    {
+      this->ScatterSample({ in(static_cast<Eigen::Index>(m), 0),
+                            in(static_cast<Eigen::Index>(m), 1),
+                            in(static_cast<Eigen::Index>(m), 2) },
+                          m,
+                          out.data());
     }
   }
 
@@ -248,6 +261,51 @@ public:
   }
 
 private:
+  /** sum over sample m's support of wx[a] wy[b] wz[c] values(row), four contiguous rows (a = 0..3) at a time; values
+   * holds three per coefficient. */
+  std::array<double, 3>
+  GatherSample(const double * values, size_t m) const
+  {
+    const WeightsType &   w = m_Weights[m];
+    std::array<double, 3> v{ 0.0, 0.0, 0.0 };
+    for (unsigned int c = 0; c < 4; ++c)
+    {
+      for (unsigned int b = 0; b < 4; ++b)
+      {
+        const double * rows = values + 3 * (m_Firsts[m] + b * m_RowStride + c * m_SliceStride);
+        const double   wbc = w[4 + b] * w[8 + c];
+        for (unsigned int d = 0; d < 3; ++d)
+        {
+          v[d] += wbc * (w[0] * rows[d] + w[1] * rows[3 + d] + w[2] * rows[6 + d] + w[3] * rows[9 + d]);
+        }
+      }
+    }
+    return v;
+  }
+
+  /** values(row) += wx[a] wy[b] wz[c] v over sample m's support. */
+  void
+  ScatterSample(const std::array<double, 3> & v, size_t m, double * values) const
+  {
+    const WeightsType & w = m_Weights[m];
+    for (unsigned int c = 0; c < 4; ++c)
+    {
+      for (unsigned int b = 0; b < 4; ++b)
+      {
+        double *     rows = values + 3 * (m_Firsts[m] + b * m_RowStride + c * m_SliceStride);
+        const double wbc = w[4 + b] * w[8 + c];
+        for (unsigned int a = 0; a < 4; ++a)
+        {
+          const double weight = wbc * w[a];
+          for (unsigned int d = 0; d < 3; ++d)
+          {
+            rows[3 * a + d] += weight * v[d];
+          }
+        }
+      }
+    }
+  }
+
   std::array<size_t, 3>     m_Size;
   size_t                    m_RowStride;
   size_t                    m_SliceStride;

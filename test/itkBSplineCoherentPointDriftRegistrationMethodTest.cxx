@@ -329,6 +329,24 @@ TestSampleNormalOperator()
   ITK_TEST_EXPECT_TRUE(diagonalDifference < 1e-13 && expected.cwiseAbs().maxCoeff() > 1.0);
   ITK_TEST_EXPECT_TRUE(explicitMatrix.diagonal().minCoeff() < explicitMatrix.diagonal().maxCoeff());
 
+  // B and B^T alone (the samples' positions and the M-step's right-hand side), against the explicit B.
+  Operator::BlockType atSamples;
+  normal.ApplyBasis(in, atSamples);
+  const Eigen::MatrixXd     expectedAtSamples = samples.Basis * Eigen::MatrixXd(in);
+  const Operator::BlockType perSample =
+    Operator::BlockType::Random(static_cast<Eigen::Index>(samples.Corners.size()), 3);
+  Operator::BlockType spread = Operator::BlockType::Ones(static_cast<Eigen::Index>(count), 3);
+  normal.ApplyBasisTranspose(perSample, spread);
+  const Eigen::MatrixXd expectedSpread = samples.Basis.transpose() * Eigen::MatrixXd(perSample);
+  const double          basisDifference = (Eigen::MatrixXd(atSamples) - expectedAtSamples).cwiseAbs().maxCoeff();
+  const double          transposeDifference = (Eigen::MatrixXd(spread) - expectedSpread).cwiseAbs().maxCoeff();
+  std::cout << "normal operator: B against Eigen's " << basisDifference << ", B^T " << transposeDifference << std::endl;
+  ITK_TEST_EXPECT_TRUE(atSamples.rows() == static_cast<Eigen::Index>(samples.Corners.size()));
+  ITK_TEST_EXPECT_TRUE(basisDifference < 1e-13 && expectedAtSamples.cwiseAbs().maxCoeff() > 0.1);
+  ITK_TEST_EXPECT_TRUE(transposeDifference < 1e-13 && expectedSpread.cwiseAbs().maxCoeff() > 0.1);
+  ITK_TRY_EXPECT_EXCEPTION(normal.ApplyBasis(perSample, atSamples));
+  ITK_TRY_EXPECT_EXCEPTION(normal.ApplyBasisTranspose(in, spread));
+
   // Bad inputs: a support leaving the lattice along each axis, sizes that do not agree.
   for (unsigned int axis = 0; axis < 3; ++axis)
   {
