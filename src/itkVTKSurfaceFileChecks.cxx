@@ -20,6 +20,8 @@
 #include "itkByteSwapper.h"
 #include "itksys/SystemTools.hxx"
 
+#include "vtkXMLDataElement.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -523,11 +525,10 @@ XMLNestingDepth(const std::string & content, std::size_t limit)
 
 } // namespace
 
-/** Checks what VTK's XML PolyData reader does not check before it uses it: the XML must not nest deeper than
- * MaximumVTPNestingDepth (VTK's parser would overflow the stack), and the points' array must have 3
- * components (VTK 9.1 leaks the arrays it read when it has another number). A light scan of the first <Points>
- * element's first <DataArray> tag; everything else (XML syntax, data, encodings) is left to VTK's reader, which
- * reports it. Returns the problem, or "". */
+/** Checks, before VTK's XML parser sees the file, that its XML does not nest deeper than MaximumVTPNestingDepth
+ * (VTK's parser would overflow the stack). Everything else (XML syntax, data, encodings) is left to VTK's reader,
+ * which reports it; the points' arrays are checked on the parsed element tree (CheckVTPPointsArrays). Returns the
+ * problem, or "". */
 std::string
 CheckVTPFile(const std::string & fileName)
 {
@@ -539,37 +540,42 @@ CheckVTPFile(const std::string & fileName)
     return "its XML nests elements more than " + std::to_string(MaximumVTPNestingDepth) +
            " levels deep (a VTP file needs fewer than 10): refused, as VTK's XML parser would overflow the stack";
   }
-  std::string::size_type points = content.find("<Points");
-  while (points != std::string::npos && points + 7 < content.size() && content[points + 7] != '>' &&
-         !std::isspace(static_cast<unsigned char>(content[points + 7])))
+  return "";
+}
+
+std::string
+CheckVTPPointsArrays(vtkXMLDataElement * root)
+{
+  if (root == nullptr)
   {
-    points = content.find("<Points", points + 7); // e.g. <PointsSomething: not the element
+    return "VTK's XML parser gave no element tree";
   }
-  if (points == std::string::npos)
+  // Depth-first over the tree, without recursion (CheckVTPFile bounds the depth, but a stack of elements costs
+  // nothing).
+  std::vector<vtkXMLDataElement *> elements{ root };
+  while (!elements.empty())
   {
-    return "";
-  }
-  const std::string::size_type array = content.find("<DataArray", points);
-  const std::string::size_type pointsEnd = content.find("</Points", points);
-  if (array == std::string::npos || (pointsEnd != std::string::npos && pointsEnd < array))
-  {
-    return "";
-  }
-  const std::string::size_type tagEnd = content.find('>', array);
-  const std::string tag = content.substr(array, tagEnd == std::string::npos ? std::string::npos : tagEnd - array);
-  std::string       components = "1"; // VTK's default when the attribute is missing
-  const std::string attribute = "NumberOfComponents=";
-  const std::string::size_type at = tag.find(attribute);
-  if (at != std::string::npos && at + attribute.size() < tag.size())
-  {
-    const char                   quote = tag[at + attribute.size()];
-    const std::string::size_type valueEnd = tag.find(quote, at + attribute.size() + 1);
-    components = tag.substr(at + attribute.size() + 1,
-                            valueEnd == std::string::npos ? std::string::npos : valueEnd - at - attribute.size() - 1);
-  }
-  if (components != "3")
-  {
-    return "the points' DataArray has NumberOfComponents=\"" + components.substr(0, 20) + "\", not 3";
+    vtkXMLDataElement * element = elements.back();
+    elements.pop_back();
+    const bool isPoints = element->GetName() != nullptr && std::strcmp(element->GetName(), "Points") == 0;
+    for (int index = 0; index < element->GetNumberOfNestedElements(); ++index)
+    {
+      vtkXMLDataElement * nested = element->GetNestedElement(index);
+      if (isPoints)
+      {
+        const char * text = nested->GetAttribute("NumberOfComponents");
+        int          components = 0;
+        if (text == nullptr)
+        {
+          return "the points' DataArray has no NumberOfComponents (VTK takes 1), not 3";
+        }
+        if (!nested->GetScalarAttribute("NumberOfComponents", components) || components != 3)
+        {
+          return "the points' DataArray has NumberOfComponents=\"" + std::string(text).substr(0, 20) + "\", not 3";
+        }
+      }
+      elements.push_back(nested);
+    }
   }
   return "";
 }

@@ -30,6 +30,8 @@
 
 #include <string>
 
+class vtkXMLDataElement;
+
 namespace itk
 {
 namespace detail
@@ -42,9 +44,16 @@ CheckSTLFile(const std::string & fileName);
 std::string
 CheckPLYFile(const std::string & fileName);
 
-/** The problem of a VTP file that nests too deep or whose points do not have 3 components, or "". */
+/** The problem of a VTP file whose XML nests too deep for VTK's parser, or "". */
 std::string
 CheckVTPFile(const std::string & fileName);
+
+/** The problem of a VTP file's element tree, as VTK's XML parser read it (vtkXMLReader::UpdateInformation(), before
+ * any array is read), or "": every array of every Points element (of each piece) must have 3 components, as VTK
+ * 9.1's vtkXMLPolyDataReader leaks the arrays it read otherwise. Comments, entities and repeated attributes are
+ * resolved by the parser, not by this check. A null root is a problem. */
+std::string
+CheckVTPPointsArrays(vtkXMLDataElement * root);
 } // namespace detail
 } // namespace itk
 

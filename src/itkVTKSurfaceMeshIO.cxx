@@ -32,6 +32,7 @@
 #include "vtkPoints.h"
 #include "vtkSTLReader.h"
 #include "vtkSTLWriter.h"
+#include "vtkXMLDataParser.h"
 #include "vtkXMLPolyDataReader.h"
 #include "vtkXMLPolyDataWriter.h"
 
@@ -142,11 +143,29 @@ ReadWithVTK(const std::string & fileName, std::string & problem)
   reader->SetFileName(fileName.c_str());
   try
   {
-    reader->Update();
+    if constexpr (std::is_base_of<vtkXMLReader, TReader>::value)
+    {
+      // The element tree first (no array is read yet): VTK's XML reader leaks what it read from points that do not
+      // have 3 components, so such a file is refused before its data are read.
+      reader->UpdateInformation();
+      if (!capture.HasErrors() && reader->GetErrorCode() == 0)
+      {
+        vtkXMLDataParser * parser = reader->GetXMLParser();
+        problem = detail::CheckVTPPointsArrays(parser == nullptr ? nullptr : parser->GetRootElement());
+      }
+    }
+    if (problem.empty() && !capture.HasErrors() && reader->GetErrorCode() == 0)
+    {
+      reader->Update();
+    }
   }
   catch (const std::exception & error)
   {
     problem = error.what();
+    return nullptr;
+  }
+  if (!problem.empty())
+  {
     return nullptr;
   }
   vtkSmartPointer<vtkPolyData> output = reader->GetOutput();

@@ -586,6 +586,48 @@ itkVTKSurfaceMeshIOTest(int argc, char * argv[])
               "</DataArray></Points></Piece></PolyData></VTKFile>\n");
     ITK_TEST_EXPECT_TRUE(ReadFails(noPointsVTP, "no points"));
 
+    // Points whose array does not have 3 components are refused before VTK reads the arrays (VTK 9.1 leaks them),
+    // wherever the element stands: behind a comment that looks like points, in a second piece, without the
+    // attribute (VTK takes 1), or with a value the parser resolves from a character reference.
+    auto cubeVTP =
+      [](const std::string & beforePiece, const std::string & firstComponents, const std::string & secondPiece) {
+        const std::string piece =
+          "<Piece NumberOfPoints=\"3\" NumberOfVerts=\"0\" NumberOfLines=\"0\" NumberOfStrips=\"0\" "
+          "NumberOfPolys=\"1\"><Points><DataArray type=\"Float32\" COMPONENTS format=\"ascii\">"
+          "0 0 0 1 0 0 0 1 0</DataArray></Points><Polys>"
+          "<DataArray type=\"Int32\" Name=\"connectivity\" format=\"ascii\">0 1 2</DataArray>"
+          "<DataArray type=\"Int32\" Name=\"offsets\" format=\"ascii\">3</DataArray></Polys></Piece>";
+        auto withComponents = [&piece](const std::string & components) {
+          std::string text = piece;
+          return text.replace(text.find("COMPONENTS"), 10, components);
+        };
+        return "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+               "<PolyData>" +
+               beforePiece + withComponents(firstComponents) +
+               (secondPiece.empty() ? std::string() : withComponents(secondPiece)) + "</PolyData></VTKFile>\n";
+      };
+    const std::string three = "NumberOfComponents=\"3\"";
+    const std::string one = "NumberOfComponents=\"1\"";
+    const std::string hiddenPoints = "<!-- <Points><DataArray " + three + "> -->";
+    const std::string commentVTP = outputDirectory + "pointsAfterComment.vtp";
+    WriteText(commentVTP, cubeVTP(hiddenPoints, one, ""));
+    ITK_TEST_EXPECT_TRUE(ReadFails(commentVTP, "the points' DataArray has NumberOfComponents=\"1\", not 3"));
+    const std::string secondPieceVTP = outputDirectory + "secondPieceOneComponent.vtp";
+    WriteText(secondPieceVTP, cubeVTP("", three, one));
+    ITK_TEST_EXPECT_TRUE(ReadFails(secondPieceVTP, "the points' DataArray has NumberOfComponents=\"1\", not 3"));
+    const std::string noAttributeVTP = outputDirectory + "noComponentsAttribute.vtp";
+    WriteText(noAttributeVTP, cubeVTP("", "", ""));
+    ITK_TEST_EXPECT_TRUE(ReadFails(noAttributeVTP, "the points' DataArray has no NumberOfComponents"));
+    const std::string referenceVTP = outputDirectory + "componentsByReference.vtp";
+    WriteText(referenceVTP, cubeVTP("", "NumberOfComponents=\"&#50;\"", ""));
+    ITK_TEST_EXPECT_TRUE(ReadFails(referenceVTP, "the points' DataArray has NumberOfComponents=\"2\", not 3"));
+    // The same comment before valid points does not stop a file from being read, nor does a second valid piece.
+    const std::string validCommentVTP = outputDirectory + "validAfterComment.vtp";
+    WriteText(validCommentVTP, cubeVTP("<!-- <Points><DataArray " + one + "> -->", three, three));
+    const auto commentedMesh = ReadMesh<MeshType>(validCommentVTP);
+    ITK_TEST_EXPECT_EQUAL(commentedMesh->GetNumberOfPoints(), 6);
+    ITK_TEST_EXPECT_EQUAL(commentedMesh->GetNumberOfCells(), 2);
+
     // The same through the IO object directly.
     io->SetFileName(truncated);
     ITK_TRY_EXPECT_EXCEPTION(io->ReadMeshInformation());
