@@ -335,6 +335,43 @@ private:
     return result;
   }
 
+  /** The centroid of a triangle. */
+  static VectorType
+  Centroid(const Triangle & t)
+  {
+    return { (t.a[0] + t.b[0] + t.c[0]) / 3.0, (t.a[1] + t.b[1] + t.c[1]) / 3.0, (t.a[2] + t.b[2] + t.c[2]) / 3.0 };
+  }
+
+  /** Half the cross product of a triangle's edges: its area-weighted normal. */
+  static VectorType
+  AreaNormal(const Triangle & t)
+  {
+    VectorType ab;
+    VectorType ac;
+    for (unsigned int k = 0; k < 3; ++k)
+    {
+      ab[k] = t.b[k] - t.a[k];
+      ac[k] = t.c[k] - t.a[k];
+    }
+    return { 0.5 * (ab[1] * ac[2] - ab[2] * ac[1]),
+             0.5 * (ab[2] * ac[0] - ab[0] * ac[2]),
+             0.5 * (ab[0] * ac[1] - ab[1] * ac[0]) };
+  }
+
+  /** Grows a node's box by a triangle's vertices and the centroids' bounds by its centroid. */
+  static void
+  GrowBounds(const Triangle & t, Node & node, VectorType & centroidMin, VectorType & centroidMax)
+  {
+    const VectorType centroid = Centroid(t);
+    for (unsigned int k = 0; k < 3; ++k)
+    {
+      node.boxMin[k] = std::min({ node.boxMin[k], t.a[k], t.b[k], t.c[k] });
+      node.boxMax[k] = std::max({ node.boxMax[k], t.a[k], t.b[k], t.c[k] });
+      centroidMin[k] = std::min(centroidMin[k], centroid[k]);
+      centroidMax[k] = std::max(centroidMax[k], centroid[k]);
+    }
+  }
+
   std::uint32_t
   BuildNode(std::uint32_t first, std::uint32_t count)
   {
@@ -346,20 +383,12 @@ private:
     node.boxMax = { -infinity, -infinity, -infinity };
     VectorType centroidMin = node.boxMin;
     VectorType centroidMax = node.boxMax;
+    for (std::uint32_t i = first; i < first + count; ++i)
+    {
+      GrowBounds(m_Triangles[i], node, centroidMin, centroidMax);
+    }
     if (!m_FarField)
     {
-      for (std::uint32_t i = first; i < first + count; ++i)
-      {
-        const Triangle & t = m_Triangles[i];
-        for (unsigned int k = 0; k < 3; ++k)
-        {
-          node.boxMin[k] = std::min({ node.boxMin[k], t.a[k], t.b[k], t.c[k] });
-          node.boxMax[k] = std::max({ node.boxMax[k], t.a[k], t.b[k], t.c[k] });
-          const double centroid = (t.a[k] + t.b[k] + t.c[k]) / 3.0;
-          centroidMin[k] = std::min(centroidMin[k], centroid);
-          centroidMax[k] = std::max(centroidMax[k], centroid);
-        }
-      }
       return this->FinishNode(index, node, first, count, centroidMin, centroidMax);
     }
     double     totalArea = 0.0;
@@ -369,31 +398,16 @@ private:
     for (std::uint32_t i = first; i < first + count; ++i)
     {
       const Triangle & t = m_Triangles[i];
-      VectorType       ab;
-      VectorType       ac;
-      for (unsigned int k = 0; k < 3; ++k)
-      {
-        node.boxMin[k] = std::min({ node.boxMin[k], t.a[k], t.b[k], t.c[k] });
-        node.boxMax[k] = std::max({ node.boxMax[k], t.a[k], t.b[k], t.c[k] });
-        const double centroid = (t.a[k] + t.b[k] + t.c[k]) / 3.0;
-        centroidMin[k] = std::min(centroidMin[k], centroid);
-        centroidMax[k] = std::max(centroidMax[k], centroid);
-        ab[k] = t.b[k] - t.a[k];
-        ac[k] = t.c[k] - t.a[k];
-      }
-      // Half the cross product: the area-weighted normal.
-      const VectorType areaNormal = { 0.5 * (ab[1] * ac[2] - ab[2] * ac[1]),
-                                      0.5 * (ab[2] * ac[0] - ab[0] * ac[2]),
-                                      0.5 * (ab[0] * ac[1] - ab[1] * ac[0]) };
+      const VectorType areaNormal = AreaNormal(t);
+      const VectorType centroid = Centroid(t);
       const double     area =
         std::sqrt(areaNormal[0] * areaNormal[0] + areaNormal[1] * areaNormal[1] + areaNormal[2] * areaNormal[2]);
       totalArea += area;
       for (unsigned int k = 0; k < 3; ++k)
       {
         node.dipole[k] += areaNormal[k];
-        const double centroid = (t.a[k] + t.b[k] + t.c[k]) / 3.0;
-        weightedCenter[k] += area * centroid;
-        plainCenter[k] += centroid;
+        weightedCenter[k] += area * centroid[k];
+        plainCenter[k] += centroid[k];
       }
     }
     for (unsigned int k = 0; k < 3; ++k)
@@ -405,23 +419,13 @@ private:
     for (std::uint32_t i = first; i < first + count; ++i)
     {
       const Triangle & t = m_Triangles[i];
-      VectorType       ab;
-      VectorType       ac;
-      VectorType       offset;
-      for (unsigned int k = 0; k < 3; ++k)
-      {
-        ab[k] = t.b[k] - t.a[k];
-        ac[k] = t.c[k] - t.a[k];
-        offset[k] = (t.a[k] + t.b[k] + t.c[k]) / 3.0 - node.center[k];
-      }
-      const VectorType areaNormal = { 0.5 * (ab[1] * ac[2] - ab[2] * ac[1]),
-                                      0.5 * (ab[2] * ac[0] - ab[0] * ac[2]),
-                                      0.5 * (ab[0] * ac[1] - ab[1] * ac[0]) };
+      const VectorType areaNormal = AreaNormal(t);
+      const VectorType centroid = Centroid(t);
       for (unsigned int j = 0; j < 3; ++j)
       {
         for (unsigned int k = 0; k < 3; ++k)
         {
-          node.moment[3 * j + k] += areaNormal[j] * offset[k];
+          node.moment[3 * j + k] += areaNormal[j] * (centroid[k] - node.center[k]);
         }
       }
       for (const VectorType * v : { &t.a, &t.b, &t.c })
