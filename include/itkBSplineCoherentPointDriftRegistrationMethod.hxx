@@ -577,6 +577,8 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   bool            previousStepAtFloor = false;
   Eigen::MatrixXd withoutMomentum;
   bool            momentumCarried = false;
+  double          coarseSigma2 = NumericTraits<double>::quiet_NaN(); // sigma^2 when the coarse matrix was formed
+  unsigned int    coarseIteration = 0;
 
   for (; iteration < m_NumberOfIterations; ++iteration)
   {
@@ -826,9 +828,16 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     for (unsigned int attempt = 0;; ++attempt)
     {
       normalOperator.SetWeighting(massVector, lambda * scale);
-      if (coarseCorrection)
+      // The coarse matrix is formed and factored again when the regularizer's weight was raised, when sigma moved
+      // by more than 1 % since it was formed, or every CoarseCorrectionUpdateInterval iterations; in between, the
+      // last factorization serves (a preconditioner need only be close: at the minimum sigma the masses change
+      // little from one iteration to the next).
+      if (coarseCorrection && (attempt > 0 || !(std::abs(sigma2 - coarseSigma2) <= 0.01 * sigma2) ||
+                               iteration >= coarseIteration + m_CoarseCorrectionUpdateInterval))
       {
         coarseCorrection->Update();
+        coarseSigma2 = sigma2;
+        coarseIteration = iteration;
       }
       // The Dimension right-hand sides side by side: one pass over the samples per iteration serves all of them.
       RowMajorCoefficients columns = coefficient;
@@ -961,6 +970,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::PrintSelf(
   os << indent << "NumberOfSolverIterations: " << m_NumberOfSolverIterations << std::endl;
   os << indent << "SolverTolerance: " << m_SolverTolerance << std::endl;
   os << indent << "NumberOfCoarseControlPointsPerAxis: " << m_NumberOfCoarseControlPointsPerAxis << std::endl;
+  os << indent << "CoarseCorrectionUpdateInterval: " << m_CoarseCorrectionUpdateInterval << std::endl;
   os << indent << "RandomSeed: " << m_RandomSeed << std::endl;
   os << indent << "MaximumRunTime: " << m_MaximumRunTime << std::endl;
   os << indent << "TimeLimitReached: " << m_TimeLimitReached << std::endl;

@@ -244,8 +244,14 @@ struct RandomSamples
   Eigen::MatrixXd
   ExplicitMatrix() const
   {
-    return Eigen::MatrixXd(Basis.transpose() * (Mass.asDiagonal() * Basis)) +
-           RegularizerWeight * Eigen::MatrixXd(Regularizer);
+    return ExplicitMatrixAt(Mass, RegularizerWeight);
+  }
+
+  /** B^T diag(mass) B + weight R. */
+  Eigen::MatrixXd
+  ExplicitMatrixAt(const Eigen::VectorXd & mass, double weight) const
+  {
+    return Eigen::MatrixXd(Basis.transpose() * (mass.asDiagonal() * Basis)) + weight * Eigen::MatrixXd(Regularizer);
   }
 };
 
@@ -444,28 +450,49 @@ TestCoarseCorrection()
 
   // Conjugate gradients with the correction reach the direct solve's answer, in fewer iterations than without.
   const Operator::BlockType rightHandSide = Operator::BlockType::Random(count, 3);
-  const Eigen::MatrixXd     exact = explicitMatrix.llt().solve(Eigen::MatrixXd(rightHandSide));
   const auto apply = [&normal](const Operator::BlockType & in, Operator::BlockType & out) { normal.Apply(in, out); };
-  Operator::BlockType jacobiOnly = Operator::BlockType::Zero(count, 3);
-  Operator::BlockType twoLevel = Operator::BlockType::Zero(count, 3);
-  const auto          jacobiIterations =
-    itk::detail::SolveConjugateGradient<3>(apply, normal.GetDiagonal(), rightHandSide, jacobiOnly, 100000, 1e-10);
-  const auto twoLevelIterations = itk::detail::SolveConjugateGradient<3>(
-    apply,
-    normal.GetDiagonal(),
-    rightHandSide,
-    twoLevel,
-    100000,
-    1e-10,
-    [&correction](const Operator::BlockType & r, Operator::BlockType & z) { correction.AddCorrection(r, z); });
-  const double scale = exact.cwiseAbs().maxCoeff();
-  const double jacobiError = (Eigen::MatrixXd(jacobiOnly) - exact).cwiseAbs().maxCoeff() / scale;
-  const double twoLevelError = (Eigen::MatrixXd(twoLevel) - exact).cwiseAbs().maxCoeff() / scale;
-  std::cout << "conjugate gradients to 1e-10: Jacobi " << jacobiIterations << " iterations (error " << jacobiError
-            << "), with the coarse correction " << twoLevelIterations << " (error " << twoLevelError << ")"
-            << std::endl;
-  ITK_TEST_EXPECT_TRUE(jacobiError < 1e-6 && twoLevelError < 1e-6);
-  ITK_TEST_EXPECT_TRUE(twoLevelIterations < jacobiIterations);
+  // Solves A X = rightHandSide at the operator's current weighting with Jacobi's preconditioner alone and with the
+  // correction's last factorization; checks both against the direct solve with explicitMatrix and that the correction
+  // takes fewer iterations.
+  const auto checkSolves = [&](const Eigen::MatrixXd & explicitMatrix, const char * what) {
+    const Eigen::MatrixXd exact = explicitMatrix.llt().solve(Eigen::MatrixXd(rightHandSide));
+    Operator::BlockType   jacobiOnly = Operator::BlockType::Zero(count, 3);
+    Operator::BlockType   twoLevel = Operator::BlockType::Zero(count, 3);
+    const auto            jacobiIterations =
+      itk::detail::SolveConjugateGradient<3>(apply, normal.GetDiagonal(), rightHandSide, jacobiOnly, 100000, 1e-10);
+    const auto twoLevelIterations = itk::detail::SolveConjugateGradient<3>(
+      apply,
+      normal.GetDiagonal(),
+      rightHandSide,
+      twoLevel,
+      100000,
+      1e-10,
+      [&correction](const Operator::BlockType & r, Operator::BlockType & z) { correction.AddCorrection(r, z); });
+    const double scale = exact.cwiseAbs().maxCoeff();
+    const double jacobiError = (Eigen::MatrixXd(jacobiOnly) - exact).cwiseAbs().maxCoeff() / scale;
+    const double twoLevelError = (Eigen::MatrixXd(twoLevel) - exact).cwiseAbs().maxCoeff() / scale;
+    std::cout << what << ": conjugate gradients to 1e-10: Jacobi " << jacobiIterations << " iterations (error "
+              << jacobiError << "), with the coarse correction " << twoLevelIterations << " (error " << twoLevelError
+              << ")" << std::endl;
+    ITK_TEST_EXPECT_TRUE(jacobiError < 1e-6 && twoLevelError < 1e-6);
+    ITK_TEST_EXPECT_TRUE(twoLevelIterations < jacobiIterations);
+    return EXIT_SUCCESS;
+  };
+  ITK_TEST_EXPECT_EQUAL(checkSolves(explicitMatrix, "factored at these masses"), EXIT_SUCCESS);
+
+  // A factorization formed at other masses and another regularizer weight (as the registration keeps it between
+  // updates, CoarseCorrectionUpdateInterval) is still a valid preconditioner: the same answer, fewer iterations than
+  // Jacobi's alone.
+  Eigen::VectorXd changedMass = samples.Mass;
+  for (Eigen::Index m = 0; m < changedMass.size(); ++m)
+  {
+    changedMass[m] *= 0.5 + static_cast<double>(m % 7) / 6.0; // 0.5 to 1.5 times
+  }
+  normal.SetWeighting(changedMass, 1.3 * samples.RegularizerWeight);
+  ITK_TEST_EXPECT_EQUAL(
+    checkSolves(samples.ExplicitMatrixAt(changedMass, 1.3 * samples.RegularizerWeight), "factored at other masses"),
+    EXIT_SUCCESS);
+  normal.SetWeighting(samples.Mass, samples.RegularizerWeight);
 
   // No mass and no regularizer: nothing to factor, nothing added.
   Operator empty(size, samples.Firsts, samples.Weights, samples.Regularizer);
@@ -815,6 +842,11 @@ itkBSplineCoherentPointDriftRegistrationMethodTest(int, char *[])
   registration->SetSolverTolerance(-1.0);
   ITK_TEST_SET_GET_VALUE(0.0, registration->GetSolverTolerance()); // clamped
   registration->SetSolverTolerance(1e-3);
+  ITK_TEST_SET_GET_VALUE(7u, registration->GetNumberOfCoarseControlPointsPerAxis());
+  ITK_TEST_SET_GET_VALUE(10u, registration->GetCoarseCorrectionUpdateInterval());
+  registration->SetCoarseCorrectionUpdateInterval(0);
+  ITK_TEST_SET_GET_VALUE(1u, registration->GetCoarseCorrectionUpdateInterval()); // clamped
+  registration->SetCoarseCorrectionUpdateInterval(10);
 
   // Bad input: no meshes, an empty one, a target without polygons, meshes apart, an initial transform that is not a
   // B-spline.
