@@ -497,13 +497,13 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   // The widths. From the identity: 1.1 and 0.25 control spacings. From a voxel method's result, whose surfaces
   // already meet: at most 0.4 and 0.15 control spacings, and less when the surfaces are closer: 10 x the RMS
   // distance from the mapped target samples to their nearest source sample, the floor at most half the start.
-  // The mapped target samples Y + B c, kept current with the coefficients.
-  // Y + B c for coefficients c.
+  // Y + B c for coefficients c (B applied by the operator).
   const auto mappedBy = [&normalOperator, &target](const Eigen::MatrixXd & values) {
     RowMajorCoefficients samples;
     normalOperator.ApplyBasis(RowMajorCoefficients(values), samples);
     return Eigen::MatrixXd(target + samples);
   };
+  // The mapped target samples Y + B c, kept current with the coefficients.
   Eigen::MatrixXd mapped = mappedBy(coefficient);
   double          startDistance = NumericTraits<double>::max();
   if (refining)

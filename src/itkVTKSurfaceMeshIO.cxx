@@ -141,6 +141,7 @@ ReadWithVTK(const std::string & fileName, std::string & problem)
     reader->SetParserErrorObserver(capture.GetCommand());
   }
   reader->SetFileName(fileName.c_str());
+  const auto readerFailed = [&capture, &reader]() { return capture.HasErrors() || reader->GetErrorCode() != 0; };
   try
   {
     if constexpr (std::is_base_of<vtkXMLReader, TReader>::value)
@@ -148,13 +149,13 @@ ReadWithVTK(const std::string & fileName, std::string & problem)
       // The element tree first (no array is read yet): VTK's XML reader leaks what it read from points that do not
       // have 3 components, so such a file is refused before its data are read.
       reader->UpdateInformation();
-      if (!capture.HasErrors() && reader->GetErrorCode() == 0)
+      if (!readerFailed())
       {
         vtkXMLDataParser * parser = reader->GetXMLParser();
         problem = detail::CheckVTPPointsArrays(parser == nullptr ? nullptr : parser->GetRootElement());
       }
     }
-    if (problem.empty() && !capture.HasErrors() && reader->GetErrorCode() == 0)
+    if (problem.empty() && !readerFailed())
     {
       reader->Update();
     }
@@ -170,7 +171,7 @@ ReadWithVTK(const std::string & fileName, std::string & problem)
   }
   vtkSmartPointer<vtkPolyData> output = reader->GetOutput();
   const bool                   noPoints = output == nullptr || output->GetNumberOfPoints() == 0;
-  if (capture.HasErrors() || reader->GetErrorCode() != 0 || (noPoints && capture.HasWarnings()))
+  if (readerFailed() || (noPoints && capture.HasWarnings()))
   {
     problem = capture.GetSummary();
     if (problem.empty())
