@@ -20,17 +20,20 @@
 #include "itkByteSwapper.h"
 #include "itksys/SystemTools.hxx"
 
+#include "vtkPLY.h"
 #include "vtkXMLDataElement.h"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <limits>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 namespace itk
@@ -151,8 +154,17 @@ DecodePLYValue(const char * data, const std::string & type, bool bigEndian)
  * and the rest read as the next line. */
 constexpr std::string::size_type MaximumPLYLineLength = 4094;
 
-/** Splits a PLY line into words the way VTK's PLY reader does: words are separated by spaces and tabs only (a
- * vertical tab or a form feed is part of a word), a carriage return ends the line. */
+/** The text of a PLY line as VTK 9's PLY reader reads it: the first "vertex_index" in the line is written over as
+ * "vertex_indices", which ends the line there (the common misspelling of the face property made the right one). */
+std::string
+PLYLineAsVTKReadsIt(const std::string & line)
+{
+  const std::string::size_type misspelling = line.find("vertex_index");
+  return misspelling == std::string::npos ? line : line.substr(0, misspelling) + "vertex_indices";
+}
+
+/** Splits a PLY line (as PLYLineAsVTKReadsIt gives it) into words the way VTK's PLY reader does: words are
+ * separated by spaces, tabs and carriage returns only (a vertical tab or a form feed is part of a word). */
 std::vector<std::string>
 SplitPLYLine(const std::string & line)
 {
@@ -160,11 +172,7 @@ SplitPLYLine(const std::string & line)
   std::string              word;
   for (const char character : line)
   {
-    if (character == '\r')
-    {
-      break;
-    }
-    if (character == ' ' || character == '\t')
+    if (character == ' ' || character == '\t' || character == '\r')
     {
       if (!word.empty())
       {
@@ -184,30 +192,170 @@ SplitPLYLine(const std::string & line)
   return words;
 }
 
+/** A line of a PLY file's header or ASCII data, read the way VTK's PLY reader reads it: its words, or the reason
+ * VTK could not read it as one line (too long once read, or holding a NUL byte). */
+struct PLYLine
+{
+  std::vector<std::string> Words;
+  std::string              Problem;
+};
+
+PLYLine
+ReadPLYLine(const std::string & text)
+{
+  PLYLine           line;
+  const std::string read = PLYLineAsVTKReadsIt(text);
+  if (read.size() > MaximumPLYLineLength || read.find('\0') != std::string::npos)
+  {
+    line.Problem = "longer than " + std::to_string(MaximumPLYLineLength) + " characters or holding a NUL byte";
+    return line;
+  }
+  line.Words = SplitPLYLine(read);
+  return line;
+}
+
+/** A property of a PLY element, as the header declares it. */
+struct PLYProperty
+{
+  bool        IsList{ false };
+  std::string CountType;
+  std::string Type;
+  std::string Name;
+};
+
+/** An element of a PLY file, as the header declares it. */
+struct PLYElement
+{
+  std::string              Name;
+  unsigned long long       Count{ 0 };
+  std::vector<PLYProperty> Properties;
+};
+
+/** The problem of declared elements that VTK 9.1's vtkPLYReader would misread, or "". It reads the vertex and face
+ * elements only, in the file's order, and skips no other element: another element's data before theirs would be
+ * read as vertices or faces. Within them it reads a list property only when it asked for one (face vertex_indices,
+ * and face texcoord when the vertices have no texture coordinates): it sizes any other list by a type it never set,
+ * and stores a list it asked for as a single value (or the reverse) over its own memory. Call it on elements that
+ * hold a vertex element. */
+std::string
+CheckPLYElementsForVTK(const std::vector<PLYElement> & elements)
+{
+  const auto named = [&elements](const std::string & name) {
+    return std::find_if(
+      elements.begin(), elements.end(), [&name](const PLYElement & element) { return element.Name == name; });
+  };
+  const auto hasProperty = [](const PLYElement & element, const std::string & name) {
+    return std::any_of(element.Properties.begin(), element.Properties.end(), [&name](const PLYProperty & property) {
+      return property.Name == name;
+    });
+  };
+  const auto vertex = named("vertex");
+  const auto face = named("face");
+  const auto lastRead = std::max(vertex, face == elements.end() ? vertex : face);
+  for (auto element = elements.begin(); element < lastRead; ++element)
+  {
+    if (element != vertex && element != face && element->Count > 0)
+    {
+      return "the PLY element " + element->Name +
+             " holds data before the vertex or face element's, which VTK's PLY "
+             "reader would read as theirs (it skips no other element)";
+    }
+  }
+  const bool vertexTextureCoordinates = (hasProperty(*vertex, "u") && hasProperty(*vertex, "v")) ||
+                                        (hasProperty(*vertex, "texture_u") && hasProperty(*vertex, "texture_v"));
+  for (const PLYProperty & property : vertex->Properties)
+  {
+    if (property.IsList)
+    {
+      return "the PLY vertex element has the list property " + property.Name + ", which VTK's PLY reader cannot skip";
+    }
+  }
+  if (face == elements.end())
+  {
+    return "";
+  }
+  for (const PLYProperty & property : face->Properties)
+  {
+    const bool read = property.Name == "vertex_indices" || (property.Name == "texcoord" && !vertexTextureCoordinates);
+    if (property.IsList && !read)
+    {
+      return "the PLY face element has the list property " + property.Name + ", which VTK's PLY reader cannot skip";
+    }
+    if (!property.IsList && read)
+    {
+      return "the PLY face property " + property.Name + " is not a list";
+    }
+  }
+  return "";
+}
+
+/** The problem of a PLY header that VTK's own header parser (vtkPLY::ply_open_for_reading, which vtkPLYReader calls)
+ * reads otherwise than elements, or "": the same elements in the same order, with the same counts and the same
+ * properties, so that the data check below walks the structure VTK will read. vtkPLYReader 9.1 goes on reading a
+ * file whose vertex coordinates it cannot find, on memory it has freed. Call it only on a header that passed the
+ * textual check (VTK's parser reads past its word list on a short element or property line). */
+std::string
+CompareWithVTKPLYHeader(const std::string & fileName, const std::vector<PLYElement> & elements)
+{
+  int       numberOfElements = 0;
+  char **   elementNames = nullptr;
+  PlyFile * ply = vtkPLY::ply_open_for_reading(fileName.c_str(), &numberOfElements, &elementNames);
+  if (ply == nullptr)
+  {
+    return "VTK's PLY reader cannot read the header";
+  }
+  std::string problem;
+  if (numberOfElements != static_cast<int>(elements.size()) || ply->nelems != numberOfElements)
+  {
+    problem = "VTK's PLY reader finds " + std::to_string(numberOfElements) + " elements in the header, not " +
+              std::to_string(elements.size());
+  }
+  for (int i = 0; problem.empty() && i < numberOfElements; ++i)
+  {
+    const PlyElement & read = *ply->elems[i];
+    const PLYElement & declared = elements[static_cast<std::size_t>(i)];
+    bool               same = declared.Name == read.name &&
+                declared.Count == static_cast<unsigned long long>(std::max(read.num, 0)) &&
+                declared.Properties.size() == static_cast<std::size_t>(std::max(read.nprops, 0));
+    for (std::size_t j = 0; same && j < declared.Properties.size(); ++j)
+    {
+      same = declared.Properties[j].Name == read.props[j]->name &&
+             declared.Properties[j].IsList == (read.props[j]->is_list != 0);
+    }
+    if (!same)
+    {
+      problem =
+        "VTK's PLY reader reads element " + std::to_string(i) + " (" + declared.Name + ") of the header otherwise";
+    }
+  }
+  int          index = 0;
+  PlyElement * vertex = problem.empty() ? vtkPLY::find_element(ply, "vertex") : nullptr;
+  if (problem.empty() &&
+      (vertex == nullptr || vtkPLY::find_property(vertex, "x", &index) == nullptr ||
+       vtkPLY::find_property(vertex, "y", &index) == nullptr || vtkPLY::find_property(vertex, "z", &index) == nullptr))
+  {
+    problem = "VTK's PLY reader finds no vertex element with properties x, y and z";
+  }
+  for (int i = 0; i < numberOfElements; ++i)
+  {
+    std::free(elementNames[i]);
+  }
+  std::free(elementNames);
+  vtkPLY::ply_close(ply);
+  return problem;
+}
+
 } // namespace
 
 /** Checks the structure of a PLY file before VTK reads it (VTK's PLY code crashes on a file
  * shorter than its header announces, and accepts faces on missing vertices): the signature,
- * the header (format, elements, property types, end_header), a vertex element with x, y and
- * z, the presence of every value the header announces, and the range of the face vertex
- * indices. Returns the problem, or "". */
+ * the header (format, elements, property types, end_header, read line by line as VTK reads it, then compared with
+ * the header VTK's own parser builds), a vertex element with x, y and z, elements and properties VTK's reader can
+ * read, the presence of every value the header announces, and the range of the face vertex indices. Returns the
+ * problem, or "". */
 std::string
 CheckPLYFile(const std::string & fileName)
 {
-  struct Property
-  {
-    bool        IsList{ false };
-    std::string CountType;
-    std::string Type;
-    std::string Name;
-  };
-  struct Element
-  {
-    std::string           Name;
-    unsigned long long    Count{ 0 };
-    std::vector<Property> Properties;
-  };
-
   std::ifstream     file(fileName, std::ios::binary);
   const std::string content((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
   if (content.compare(0, 4, "ply\n") != 0 && content.compare(0, 5, "ply\r\n") != 0)
@@ -216,10 +364,10 @@ CheckPLYFile(const std::string & fileName)
   }
 
   // The header.
-  std::string::size_type position = 0;
-  std::string            format;
-  std::vector<Element>   elements;
-  bool                   endOfHeader = false;
+  std::string::size_type  position = 0;
+  std::string             format;
+  std::vector<PLYElement> elements;
+  bool                    endOfHeader = false;
   for (unsigned int lineNumber = 1; !endOfHeader; ++lineNumber)
   {
     const std::string::size_type endOfLine = content.find('\n', position);
@@ -230,15 +378,21 @@ CheckPLYFile(const std::string & fileName)
     const std::string text = content.substr(position, endOfLine - position);
     position = endOfLine + 1;
     const std::string where = "PLY header line " + std::to_string(lineNumber) + ": ";
-    if (text.size() > MaximumPLYLineLength || text.find('\0') != std::string::npos)
+    const PLYLine     line = ReadPLYLine(text);
+    if (!line.Problem.empty())
     {
-      return where + "longer than " + std::to_string(MaximumPLYLineLength) + " characters or holding a NUL byte";
+      return where + line.Problem;
     }
-    const std::vector<std::string> words = SplitPLYLine(text);
+    const std::vector<std::string> & words = line.Words;
     // The i-th word after the keyword, or "" when the line has fewer words.
     auto              word = [&words](std::size_t i) { return i < words.size() ? words[i] : std::string(); };
     const std::string keyword = word(0);
-    if (lineNumber == 1 || keyword.empty() || keyword == "comment" || keyword == "obj_info")
+    if (keyword.empty())
+    {
+      // VTK's PLY reader ends the header at a line without words and would read the rest as data.
+      return where + "a blank line within the header";
+    }
+    if (lineNumber == 1 || keyword == "comment" || keyword == "obj_info")
     {
       continue;
     }
@@ -249,10 +403,14 @@ CheckPLYFile(const std::string & fileName)
       {
         return where + "unknown format \"" + format + "\"";
       }
+      if (words.size() != 3)
+      {
+        return where + "a format line needs the format and the version, and nothing else";
+      }
     }
     else if (keyword == "element")
     {
-      Element           element;
+      PLYElement        element;
       const std::string count = word(2);
       element.Name = word(1);
       if (element.Name.empty() || count.empty() || count.find_first_not_of("0123456789") != std::string::npos)
@@ -265,6 +423,13 @@ CheckPLYFile(const std::string & fileName)
         return where + "an element count of " + count + ", more than a PLY reader can count";
       }
       element.Count = std::stoull(count);
+      // Readers look elements and properties up by name: a second one of a name would be read as the first.
+      if (std::any_of(elements.begin(), elements.end(), [&element](const PLYElement & declared) {
+            return declared.Name == element.Name;
+          }))
+      {
+        return where + "a second element named \"" + element.Name + "\"";
+      }
       elements.push_back(element);
     }
     else if (keyword == "property")
@@ -273,7 +438,7 @@ CheckPLYFile(const std::string & fileName)
       {
         return where + "a property before any element";
       }
-      Property    property;
+      PLYProperty property;
       std::size_t next = 1;
       property.Type = word(next++);
       if (property.Type == "list")
@@ -292,7 +457,14 @@ CheckPLYFile(const std::string & fileName)
       {
         return where + "a property of unknown type \"" + property.Type + "\" or without a name";
       }
-      elements.back().Properties.push_back(property);
+      std::vector<PLYProperty> & properties = elements.back().Properties;
+      if (std::any_of(properties.begin(), properties.end(), [&property](const PLYProperty & declared) {
+            return declared.Name == property.Name;
+          }))
+      {
+        return where + "a second property named \"" + property.Name + "\" in element " + elements.back().Name;
+      }
+      properties.push_back(property);
     }
     else if (keyword == "end_header")
     {
@@ -308,7 +480,7 @@ CheckPLYFile(const std::string & fileName)
     return "the PLY header has no format line";
   }
   const auto vertexElement =
-    std::find_if(elements.begin(), elements.end(), [](const Element & element) { return element.Name == "vertex"; });
+    std::find_if(elements.begin(), elements.end(), [](const PLYElement & element) { return element.Name == "vertex"; });
   if (vertexElement == elements.end())
   {
     return "the PLY header declares no vertex element";
@@ -316,22 +488,31 @@ CheckPLYFile(const std::string & fileName)
   for (const char * coordinate : { "x", "y", "z" })
   {
     if (std::none_of(
-          vertexElement->Properties.begin(), vertexElement->Properties.end(), [coordinate](const Property & property) {
-            return !property.IsList && property.Name == coordinate;
-          }))
+          vertexElement->Properties.begin(),
+          vertexElement->Properties.end(),
+          [coordinate](const PLYProperty & property) { return !property.IsList && property.Name == coordinate; }))
     {
       return std::string("the PLY vertex element has no property ") + coordinate;
     }
   }
-  for (const Element & element : elements)
+  for (const PLYElement & element : elements)
   {
     if (element.Name == "face" && element.Count > 0 &&
-        std::none_of(element.Properties.begin(), element.Properties.end(), [](const Property & property) {
+        std::none_of(element.Properties.begin(), element.Properties.end(), [](const PLYProperty & property) {
           return property.IsList && property.Name == "vertex_indices";
         }))
     {
       return "the PLY face element has no list property vertex_indices";
     }
+  }
+  std::string vtkProblem = CheckPLYElementsForVTK(elements);
+  if (vtkProblem.empty())
+  {
+    vtkProblem = CompareWithVTKPLYHeader(fileName, elements);
+  }
+  if (!vtkProblem.empty())
+  {
+    return vtkProblem;
   }
   const double numberOfVertices = static_cast<double>(vertexElement->Count);
 
@@ -350,14 +531,14 @@ CheckPLYFile(const std::string & fileName)
     {
       return false;
     }
-    const char *      endOfLine = std::find(data, end, '\n');
-    const std::string text(data, endOfLine);
+    const char * endOfLine = std::find(data, end, '\n');
+    PLYLine      line = ReadPLYLine(std::string(data, endOfLine));
     data = endOfLine == end ? end : endOfLine + 1;
-    if (text.size() > MaximumPLYLineLength || text.find('\0') != std::string::npos)
+    if (!line.Problem.empty())
     {
       return false;
     }
-    lineWords = SplitPLYLine(text);
+    lineWords = std::move(line.Words);
     nextWord = 0;
     return true;
   };
@@ -384,7 +565,7 @@ CheckPLYFile(const std::string & fileName)
     data += size;
     return true;
   };
-  for (const Element & element : elements)
+  for (const PLYElement & element : elements)
   {
     const bool isFace = element.Name == "face";
     for (unsigned long long i = 0; i < element.Count; ++i)
@@ -398,7 +579,7 @@ CheckPLYFile(const std::string & fileName)
       {
         return where();
       }
-      for (const Property & property : element.Properties)
+      for (const PLYProperty & property : element.Properties)
       {
         double value = 0.0;
         if (!property.IsList)

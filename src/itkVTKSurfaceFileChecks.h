@@ -40,7 +40,10 @@ namespace detail
 std::string
 CheckSTLFile(const std::string & fileName);
 
-/** The problem of a PLY file's structure (signature, header, announced values, face vertex indices), or "". */
+/** The problem of a PLY file's structure, or "": the signature; the header, split into words as VTK's PLY reader
+ * splits it and compared with the header VTK's own parser builds; elements and properties VTK 9.1's reader can
+ * read (no list property it does not ask for, no other element's data before the vertices' and faces'); every
+ * announced value; face vertex indices in range. */
 std::string
 CheckPLYFile(const std::string & fileName);
 

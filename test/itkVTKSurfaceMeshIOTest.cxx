@@ -553,6 +553,71 @@ itkVTKSurfaceMeshIOTest(int argc, char * argv[])
               "element face 1\nproperty list uchar int vertex_indixes\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
     ITK_TEST_EXPECT_TRUE(ReadFails(noIndicesPLY, "no list property vertex_indices"));
 
+    // Headers VTK's PLY reader reads otherwise than a plain reading would (it then reads freed memory, or the data
+    // as other elements): a blank line ends VTK's header, a carriage return separates words like a space, readers
+    // look properties up by name. The common misspelling vertex_index is read as vertex_indices, as VTK does.
+    const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
+    auto              triangle = [](const std::string & header, const std::string & faceProperty) {
+      return "ply\nformat ascii 1.0\nelement vertex 3\n" + header + "element face 1\nproperty list uchar int " +
+             faceProperty + "\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    };
+    const std::string blankLinePLY = outputDirectory + "blankHeaderLine.ply";
+    WriteText(blankLinePLY, triangle("property float x\n\nproperty float y\nproperty float z\n", "vertex_indices"));
+    ITK_TEST_EXPECT_TRUE(ReadFails(blankLinePLY, "PLY header line 5: a blank line within the header"));
+    const std::string carriageReturnPLY = outputDirectory + "carriageReturnElement.ply";
+    WriteText(carriageReturnPLY,
+              triangle("property float x\n\relement extra 0\nproperty float y\nproperty float z\n", "vertex_indices"));
+    ITK_TEST_EXPECT_TRUE(ReadFails(carriageReturnPLY, "the PLY vertex element has no property y"));
+    const std::string twiceNamedPLY = outputDirectory + "twiceNamedProperty.ply";
+    WriteText(twiceNamedPLY, triangle("property float x\n" + xyz, "vertex_indices"));
+    ITK_TEST_EXPECT_TRUE(
+      ReadFails(twiceNamedPLY, "PLY header line 5: a second property named \"x\" in element vertex"));
+    const std::string shortFormatPLY = outputDirectory + "shortFormat.ply";
+    std::string       shortFormat = triangle(xyz, "vertex_indices");
+    WriteText(shortFormatPLY, shortFormat.replace(shortFormat.find(" 1.0"), 4, ""));
+    ITK_TEST_EXPECT_TRUE(ReadFails(shortFormatPLY, "a format line needs the format and the version"));
+    const std::string misspelledPLY = outputDirectory + "vertexIndex.ply";
+    WriteText(misspelledPLY, triangle(xyz, "vertex_index"));
+    MeshType::Pointer misspelled;
+    ITK_TRY_EXPECT_NO_EXCEPTION(misspelled = ReadMesh<MeshType>(misspelledPLY));
+    ITK_TEST_EXPECT_EQUAL(misspelled->GetNumberOfPoints(), 3u);
+    ITK_TEST_EXPECT_EQUAL(misspelled->GetNumberOfCells(), 1u);
+
+    // VTK 9.1's PLY reader reads the vertex and face elements only and skips no other element's data, and reads a
+    // list only where it asked for one (it sizes any other by a type it never set): such files are refused, while
+    // an element after the faces and the face texture coordinates it reads are accepted.
+    const std::string vertexList = "property float x\nproperty float y\nproperty float z\nproperty list uchar int n\n";
+    const std::string vertexListPLY = outputDirectory + "vertexList.ply";
+    WriteText(vertexListPLY, triangle(vertexList, "vertex_indices"));
+    ITK_TEST_EXPECT_TRUE(ReadFails(vertexListPLY, "the PLY vertex element has the list property n, which VTK"));
+    auto withFaceExtra = [&triangle, &xyz](const std::string & extraProperty, const std::string & extraValues) {
+      std::string text = triangle(xyz, "vertex_indices\n" + extraProperty);
+      return text.replace(text.rfind("3 0 1 2"), 7, "3 0 1 2 " + extraValues);
+    };
+    const std::string faceListPLY = outputDirectory + "faceList.ply";
+    WriteText(faceListPLY, withFaceExtra("property list uchar float extra", "2 0.5 0.25"));
+    ITK_TEST_EXPECT_TRUE(ReadFails(faceListPLY, "the PLY face element has the list property extra, which VTK"));
+    const std::string scalarTexturePLY = outputDirectory + "scalarTexcoord.ply";
+    WriteText(scalarTexturePLY, withFaceExtra("property float texcoord", "0.5"));
+    ITK_TEST_EXPECT_TRUE(ReadFails(scalarTexturePLY, "the PLY face property texcoord is not a list"));
+    const std::string faceTexturePLY = outputDirectory + "faceTexcoord.ply";
+    WriteText(faceTexturePLY, withFaceExtra("property list uchar float texcoord", "6 0 0 1 0 0 1"));
+    ITK_TRY_EXPECT_NO_EXCEPTION(ReadMesh<MeshType>(faceTexturePLY));
+    const std::string elementBeforePLY = outputDirectory + "elementBeforeVertices.ply";
+    WriteText(
+      elementBeforePLY,
+      "ply\nformat ascii 1.0\nelement material 1\nproperty float shine\nelement vertex 3\n" + xyz +
+        "element face 1\nproperty list uchar int vertex_indices\nend_header\n0.5\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+    ITK_TEST_EXPECT_TRUE(ReadFails(elementBeforePLY, "the PLY element material holds data before the vertex"));
+    const std::string elementAfterPLY = outputDirectory + "elementAfterFaces.ply";
+    WriteText(elementAfterPLY,
+              "ply\nformat ascii 1.0\nelement vertex 3\n" + xyz +
+                "element face 1\nproperty list uchar int vertex_indices\nelement edge 1\nproperty int a\n"
+                "property int b\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n0 1\n");
+    MeshType::Pointer afterFaces;
+    ITK_TRY_EXPECT_NO_EXCEPTION(afterFaces = ReadMesh<MeshType>(elementAfterPLY));
+    ITK_TEST_EXPECT_EQUAL(afterFaces->GetNumberOfCells(), 1u);
+
     // A binary VTP cut in its appended data, and a VTP whose polygon refers to a missing point.
     std::ifstream     vtpFile(outputDirectory + "sphere.vtp", std::ios::binary);
     std::vector<char> vtpBytes((std::istreambuf_iterator<char>(vtpFile)), std::istreambuf_iterator<char>());
