@@ -231,6 +231,15 @@ struct PLYElement
   std::vector<PLYProperty> Properties;
 };
 
+/** Whether element declares a property of this name. */
+bool
+HasPLYProperty(const PLYElement & element, const std::string & name)
+{
+  return std::any_of(element.Properties.begin(), element.Properties.end(), [&name](const PLYProperty & property) {
+    return property.Name == name;
+  });
+}
+
 /** The problem of declared elements that VTK 9.1's vtkPLYReader would misread, or "". It reads the vertex and face
  * elements only, in the file's order, and skips no other element: another element's data before theirs would be
  * read as vertices or faces. Within them it reads a list property only when it asked for one (face vertex_indices,
@@ -244,11 +253,6 @@ CheckPLYElementsForVTK(const std::vector<PLYElement> & elements)
     return std::find_if(
       elements.begin(), elements.end(), [&name](const PLYElement & element) { return element.Name == name; });
   };
-  const auto hasProperty = [](const PLYElement & element, const std::string & name) {
-    return std::any_of(element.Properties.begin(), element.Properties.end(), [&name](const PLYProperty & property) {
-      return property.Name == name;
-    });
-  };
   const auto vertex = named("vertex");
   const auto face = named("face");
   const auto lastRead = std::max(vertex, face == elements.end() ? vertex : face);
@@ -261,8 +265,8 @@ CheckPLYElementsForVTK(const std::vector<PLYElement> & elements)
              "reader would read as theirs (it skips no other element)";
     }
   }
-  const bool vertexTextureCoordinates = (hasProperty(*vertex, "u") && hasProperty(*vertex, "v")) ||
-                                        (hasProperty(*vertex, "texture_u") && hasProperty(*vertex, "texture_v"));
+  const bool vertexTextureCoordinates = (HasPLYProperty(*vertex, "u") && HasPLYProperty(*vertex, "v")) ||
+                                        (HasPLYProperty(*vertex, "texture_u") && HasPLYProperty(*vertex, "texture_v"));
   for (const PLYProperty & property : vertex->Properties)
   {
     if (property.IsList)
@@ -457,14 +461,11 @@ CheckPLYFile(const std::string & fileName)
       {
         return where + "a property of unknown type \"" + property.Type + "\" or without a name";
       }
-      std::vector<PLYProperty> & properties = elements.back().Properties;
-      if (std::any_of(properties.begin(), properties.end(), [&property](const PLYProperty & declared) {
-            return declared.Name == property.Name;
-          }))
+      if (HasPLYProperty(elements.back(), property.Name))
       {
         return where + "a second property named \"" + property.Name + "\" in element " + elements.back().Name;
       }
-      properties.push_back(property);
+      elements.back().Properties.push_back(property);
     }
     else if (keyword == "end_header")
     {
