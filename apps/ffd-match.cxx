@@ -25,6 +25,7 @@
 // Every output is checked before any work and written under a temporary name next to it; all are renamed into
 // place together at the end, so a failed run changes no file. Errors are one line on stderr and exit code 1.
 
+#include "FFDAllocatorSettings.h"
 #include "FFDMatch.h"
 #include "FFDMatchPipeline.h"
 #include "FFDMatchReport.h"
@@ -380,6 +381,7 @@ Match(const Options & options, const GroundTruth * truth, const std::string & de
 int
 main(int argc, char * argv[])
 {
+  ffd::KeepFreedMemoryForReuse();
   ffd::CollectLibraryMessages();
   try
   {

@@ -30,6 +30,7 @@
 // ffd-match --method par|go+par|mrf+par --templates reads. The output is checked before any work, never replaces
 // an input and is written whole or not at all (ffd::OutputFiles). Errors are one line on stderr and exit code 1.
 
+#include "FFDAllocatorSettings.h"
 #include "FFDInputFiles.h"
 #include "FFDOutputFiles.h"
 #include "FFDProgramMessages.h"
@@ -367,6 +368,7 @@ Run(const Options & options)
 int
 main(int argc, char * argv[])
 {
+  ffd::KeepFreedMemoryForReuse();
   ffd::CollectLibraryMessages();
   try
   {

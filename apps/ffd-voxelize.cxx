@@ -26,6 +26,7 @@
 // place together (ffd::OutputFiles), so a failed run changes no file. Errors are one line on stderr and a non-zero
 // exit code.
 
+#include "FFDAllocatorSettings.h"
 #include "FFDInputFiles.h"
 #include "FFDOutputFiles.h"
 #include "FFDProgramMessages.h"
@@ -412,6 +413,7 @@ Run(const Options &     options,
 int
 main(int argc, char * argv[])
 {
+  ffd::KeepFreedMemoryForReuse();
   ffd::CollectLibraryMessages();
   Options options;
   try

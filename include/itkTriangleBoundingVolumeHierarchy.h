@@ -119,7 +119,11 @@ public:
     {
       return;
     }
-    m_Nodes.reserve(2 * (m_Triangles.size() / m_LeafSize + 1));
+    // A split halves a node of more than m_LeafSize triangles, so every leaf holds at least half of
+    // m_LeafSize + 1 of them (rounded down, at least one): that bounds the leaves, and a binary tree has fewer than
+    // twice as many nodes as leaves. Reserved once, the nodes are never moved while the tree grows.
+    const std::size_t fewestPerLeaf = std::max<std::size_t>(1, (m_LeafSize + 1) / 2);
+    m_Nodes.reserve(2 * (m_Triangles.size() / fewestPerLeaf) + 1);
     this->BuildNode(0, static_cast<std::uint32_t>(m_Triangles.size()));
   }
 

@@ -23,9 +23,12 @@
 #include "itkTestingMacros.h"
 #include "itkTimeProbe.h"
 #include "itkTriangleCell.h"
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
+#include <vector>
 
 namespace
 {
@@ -215,6 +218,52 @@ CheckDistanceOnlyHierarchy(const MeshType * target)
   std::cout << "distance-only hierarchy: " << boxes.GetNumberOfNodes() << " nodes, the same tree and distances: " << ok
             << ", winding number refused: " << refused << std::endl;
   return ok && refused;
+}
+
+/** The hierarchy reserves its nodes once: for every number of triangles up to 300 and leaf sizes 1-8, the tree
+ * built (median splits) has no more nodes than Build() reserves, 2 floor(n / max(1, floor((leafSize + 1) / 2))) + 1,
+ * so it never moves them while it grows. The triangles lie along a line, in shuffled order. */
+bool
+CheckHierarchyNodeBound()
+{
+  using HierarchyType = itk::detail::TriangleBoundingVolumeHierarchy;
+  bool          ok = true;
+  std::size_t   largestRatioCount = 0;
+  double        largestRatio = 0.0;
+  std::uint32_t state = 12345u;
+  for (std::size_t count = 1; count <= 300 && ok; ++count)
+  {
+    std::vector<HierarchyType::Triangle> triangles;
+    for (std::size_t t = 0; t < count; ++t)
+    {
+      state = state * 1664525u + 1013904223u;
+      const double x = static_cast<double>(state % 1000u);
+      triangles.push_back(
+        HierarchyType::Triangle{ { { x, 0.0, 0.0 } }, { { x + 1.0, 0.0, 0.0 } }, { { x, 1.0, 0.0 } } });
+    }
+    for (unsigned int leafSize = 1; leafSize <= 8 && ok; ++leafSize)
+    {
+      HierarchyType hierarchy;
+      hierarchy.Build(triangles, leafSize, false);
+      const std::size_t fewestPerLeaf = std::max<std::size_t>(1, (leafSize + 1) / 2);
+      const std::size_t bound = 2 * (count / fewestPerLeaf) + 1;
+      if (hierarchy.GetNumberOfNodes() > bound)
+      {
+        std::cerr << count << " triangles, leaf size " << leafSize << ": " << hierarchy.GetNumberOfNodes()
+                  << " nodes, more than the " << bound << " reserved" << std::endl;
+        ok = false;
+      }
+      const double ratio = static_cast<double>(hierarchy.GetNumberOfNodes()) / static_cast<double>(bound);
+      if (count > leafSize && ratio > largestRatio)
+      {
+        largestRatio = ratio;
+        largestRatioCount = count;
+      }
+    }
+  }
+  std::cout << "hierarchy nodes within the reserved bound: " << ok << " (largest share of it used by a split tree "
+            << largestRatio << ", at " << largestRatioCount << " triangles)" << std::endl;
+  return ok;
 }
 
 /** A torus (major radius R, minor radius r) of nu x nv quads split into triangles, radially perturbed. */
@@ -432,6 +481,7 @@ itkMeshSurfaceDistanceCalculatorTest(int argc, char * argv[])
     const auto torusA = MakeTorus(250, 100, 0.0, 0.0);
     const auto torusB = MakeTorus(250, 100, 1.0, 0.7);
     ITK_TEST_EXPECT_TRUE(CheckDistanceOnlyHierarchy(torusB));
+    ITK_TEST_EXPECT_TRUE(CheckHierarchyNodeBound());
     const double self = CalculatorType::ComputeSymmetricHausdorffDistance(torusA, torusA);
     std::cout << "Torus to itself: symmetric Hausdorff " << self << std::endl;
     ITK_TEST_EXPECT_EQUAL(self, 0.0);
