@@ -17,137 +17,92 @@
  *=========================================================================*/
 #include "FFDSnapshot.h"
 
-#include "itkMeshVTKPolyDataConversion.h"
+#include <dlfcn.h>
+#include <unistd.h>
 
-#include <vtkActor.h>
-#include <vtkAutoInit.h>
-#include <vtkCamera.h>
-#include <vtkCommand.h>
-#include <vtkDoubleArray.h>
-#include <vtkLookupTable.h>
-#include <vtkNew.h>
-#include <vtkPNGWriter.h>
-#include <vtkPointData.h>
-#include <vtkPolyData.h>
-#include <vtkPolyDataMapper.h>
-#include <vtkPolyDataNormals.h>
-#include <vtkProperty.h>
-#include <vtkRenderWindow.h>
-#include <vtkRenderer.h>
-#include <vtkScalarBarActor.h>
-#include <vtkTextActor.h>
-#include <vtkTextProperty.h>
-#include <vtkWindowToImageFilter.h>
-
-#include <algorithm>
-#include <cstdio>
 #include <cstdlib>
-#include <sstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
-VTK_MODULE_INIT(vtkRenderingOpenGL2);
-VTK_MODULE_INIT(vtkRenderingFreeType);
+// Set by apps/CMakeLists.txt: the module's file name, and the library directory relative to the program's
+// directory in an installation.
+#ifndef FFD_SNAPSHOT_MODULE_FILE
+#  error "FFD_SNAPSHOT_MODULE_FILE is not defined"
+#endif
+#ifndef FFD_SNAPSHOT_MODULE_INSTALL_DIR
+#  error "FFD_SNAPSHOT_MODULE_INSTALL_DIR is not defined"
+#endif
 
 namespace ffd
 {
 namespace
 {
-// Turns VTK's error and warning events of one object into a flag instead of console text.
-class ErrorObserver : public vtkCommand
+/** The directory of the running program (Linux's /proc/self/exe), or empty when it cannot be told. */
+std::string
+ProgramDirectory()
 {
-public:
-  static ErrorObserver *
-  New()
+  std::vector<char> path(4096);
+  const ssize_t     length = readlink("/proc/self/exe", path.data(), path.size());
+  if (length <= 0 || static_cast<std::size_t>(length) >= path.size())
   {
-    return new ErrorObserver;
+    return std::string();
   }
-
-  void
-  Execute(vtkObject *, unsigned long, void * callData) override
-  {
-    failed = true;
-    if (message.empty() && callData != nullptr)
-    {
-      message = static_cast<const char *>(callData);
-    }
-  }
-
-  bool        failed{ false };
-  std::string message;
-};
-
-// The mesh for rendering, with \c values (one per vertex, if given) as its scalars.
-vtkSmartPointer<vtkPolyData>
-ToPolyData(const DoubleCoordinateMeshType * mesh, const std::vector<double> * values = nullptr)
-{
-  auto polyData = vtkSmartPointer<vtkPolyData>::New();
-  itk::MeshToVTKPolyData(mesh, polyData, "");
-  polyData->GetPointData()->SetScalars(nullptr);
-  if (values != nullptr)
-  {
-    if (values->size() != static_cast<std::size_t>(polyData->GetNumberOfPoints()))
-    {
-      throw std::runtime_error("snapshot: one distance per target vertex is needed");
-    }
-    vtkNew<vtkDoubleArray> distance;
-    distance->SetName("distance");
-    distance->SetNumberOfValues(polyData->GetNumberOfPoints());
-    for (vtkIdType i = 0; i < polyData->GetNumberOfPoints(); ++i)
-    {
-      distance->SetValue(i, (*values)[static_cast<std::size_t>(i)]);
-    }
-    polyData->GetPointData()->SetScalars(distance);
-  }
-  // Smooth shading of faceted CAD parts without blending their sharp edges.
-  vtkNew<vtkPolyDataNormals> normals;
-  normals->SetInputData(polyData);
-  normals->SetFeatureAngle(40.0);
-  normals->SplittingOn();
-  normals->ConsistencyOn();
-  normals->Update();
-  auto result = vtkSmartPointer<vtkPolyData>::New();
-  result->ShallowCopy(normals->GetOutput());
-  return result;
+  const std::string program(path.data(), static_cast<std::size_t>(length));
+  const auto        slash = program.rfind('/');
+  return slash == std::string::npos ? std::string() : program.substr(0, slash);
 }
 
-vtkSmartPointer<vtkActor>
-SurfaceActor(vtkPolyData * polyData, double red, double green, double blue, double opacity)
+/** The rendering module's entry point, the module loaded (once; it stays loaded) from the program's directory or
+ * its installation's library directory. Throws std::runtime_error, with the loader's reasons, when neither holds
+ * a module that loads. */
+SnapshotEntryPoint
+LoadRenderingModule()
 {
-  vtkNew<vtkPolyDataMapper> mapper;
-  mapper->SetInputData(polyData);
-  mapper->ScalarVisibilityOff();
-  auto actor = vtkSmartPointer<vtkActor>::New();
-  actor->SetMapper(mapper);
-  actor->GetProperty()->SetColor(red, green, blue);
-  actor->GetProperty()->SetOpacity(opacity);
-  return actor;
-}
-
-vtkSmartPointer<vtkTextActor>
-Label(const std::string & text, int size, double x, double y)
-{
-  auto label = vtkSmartPointer<vtkTextActor>::New();
-  label->SetInput(text.c_str());
-  label->GetTextProperty()->SetFontSize(size);
-  label->GetTextProperty()->SetColor(0.1, 0.1, 0.1);
-  label->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
-  label->GetPositionCoordinate()->SetValue(x, y);
-  return label;
-}
-
-// The target coloured by per-vertex distances.
-vtkSmartPointer<vtkActor>
-ColouredActor(const DoubleCoordinateMeshType * mesh, const std::vector<double> & values, vtkLookupTable * colours)
-{
-  const auto                polyData = ToPolyData(mesh, &values);
-  vtkNew<vtkPolyDataMapper> mapper;
-  mapper->SetInputData(polyData);
-  mapper->SetLookupTable(colours);
-  mapper->UseLookupTableScalarRangeOn();
-  mapper->ScalarVisibilityOn();
-  auto actor = vtkSmartPointer<vtkActor>::New();
-  actor->SetMapper(mapper);
-  return actor;
+  static SnapshotEntryPoint entryPoint = nullptr;
+  if (entryPoint != nullptr)
+  {
+    return entryPoint;
+  }
+  const std::string        directory = ProgramDirectory();
+  const std::string        file = FFD_SNAPSHOT_MODULE_FILE;
+  std::vector<std::string> candidates;
+  if (!directory.empty())
+  {
+    candidates.push_back(directory + "/" + file);
+    candidates.push_back(directory + "/" + FFD_SNAPSHOT_MODULE_INSTALL_DIR + "/" + file);
+  }
+  else
+  {
+    candidates.push_back(file); // The loader's own search (the program's RUNPATH, LD_LIBRARY_PATH).
+  }
+  std::string reasons;
+  for (const auto & candidate : candidates)
+  {
+    if (access(candidate.c_str(), F_OK) != 0 && candidate != file)
+    {
+      continue;
+    }
+    void * module = dlopen(candidate.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (module == nullptr)
+    {
+      const char * error = dlerror();
+      reasons += std::string("; ") + (error != nullptr ? error : candidate + ": cannot be loaded");
+      continue;
+    }
+    // POSIX: a function's address is read from dlsym's object pointer.
+    void * symbol = dlsym(module, SnapshotEntryPointName);
+    if (symbol == nullptr)
+    {
+      reasons += "; " + candidate + " has no " + SnapshotEntryPointName;
+      continue;
+    }
+    entryPoint = reinterpret_cast<SnapshotEntryPoint>(symbol);
+    return entryPoint;
+  }
+  throw std::runtime_error("the rendering module " + file + " (installed with ffd-match) is not in " +
+                           (directory.empty() ? std::string("the library search path") : directory) + " or " +
+                           FFD_SNAPSHOT_MODULE_INSTALL_DIR + " beside it" + reasons);
 }
 } // namespace
 
@@ -178,96 +133,7 @@ WriteSnapshot(const DoubleCoordinateMeshType * source,
   {
     throw std::runtime_error(why);
   }
-  const auto sourceData = ToPolyData(source);
-  const auto deformedData = ToPolyData(deformed);
-
-  // One colour scale for both views: up to the 95th percentile of the distances before, at least 1 mm.
-  std::vector<double> sorted(beforeDistances);
-  std::sort(sorted.begin(), sorted.end());
-  const double           top = sorted.empty() ? 1.0 : std::max(1.0, sorted[(sorted.size() - 1) * 95 / 100]);
-  vtkNew<vtkLookupTable> colours;
-  colours->SetHueRange(0.667, 0.0);
-  colours->SetTableRange(0.0, top);
-  colours->SetNanColor(0.5, 0.5, 0.5, 1.0);
-  colours->Build();
-
-  // Each view: the (deformed) source in translucent grey and the target coloured by its distances.
-  const auto view =
-    [&](double left, vtkPolyData * sourceSurface, const std::vector<double> & distances, const std::string & caption) {
-      auto renderer = vtkSmartPointer<vtkRenderer>::New();
-      renderer->SetViewport(left, 0.0, left + 0.5, 1.0);
-      const double shade = left > 0.0 ? 0.97 : 1.0;
-      renderer->SetBackground(shade, shade, 1.0);
-      renderer->AddActor(SurfaceActor(sourceSurface, 0.8, 0.8, 0.8, 0.35));
-      renderer->AddActor(ColouredActor(target, distances, colours));
-      renderer->AddActor2D(Label(caption, 16, 0.02, 0.02));
-      return renderer;
-    };
-  const auto                before = view(0.0, sourceData, beforeDistances, "before: source (grey) and target");
-  const auto                after = view(0.5, deformedData, afterDistances, "after: deformed source (grey) and target");
-  vtkNew<vtkScalarBarActor> bar;
-  bar->SetLookupTable(colours);
-  bar->SetTitle("distance, mm");
-  bar->SetNumberOfLabels(5);
-  bar->SetWidth(0.1);
-  bar->SetHeight(0.5);
-  bar->SetPosition(0.86, 0.25);
-  bar->UnconstrainedFontSizeOn();
-  bar->GetTitleTextProperty()->SetFontSize(14);
-  bar->GetLabelTextProperty()->SetFontSize(13);
-  bar->GetTitleTextProperty()->SetColor(0.1, 0.1, 0.1);
-  bar->GetTitleTextProperty()->ItalicOff();
-  bar->GetTitleTextProperty()->ShadowOff();
-  bar->GetLabelTextProperty()->SetColor(0.1, 0.1, 0.1);
-  bar->GetLabelTextProperty()->ItalicOff();
-  bar->GetLabelTextProperty()->ShadowOff();
-  after->AddActor2D(bar);
-  if (!title.empty())
-  {
-    before->AddActor2D(Label(title, 17, 0.02, 0.94));
-  }
-
-  // One camera for both views, looking at the target region from above and the side.
-  const auto targetData = ToPolyData(target);
-  double     bounds[6];
-  targetData->GetBounds(bounds);
-  before->ResetCamera(bounds);
-  vtkCamera * camera = before->GetActiveCamera();
-  camera->Elevation(35.0);
-  camera->Azimuth(30.0);
-  camera->OrthogonalizeViewUp();
-  before->ResetCamera(bounds);
-  camera->Zoom(1.15);
-  after->SetActiveCamera(camera);
-  before->ResetCameraClippingRange(sourceData->GetBounds());
-
-  vtkNew<vtkRenderWindow> window;
-  window->SetOffScreenRendering(1);
-  window->SetSize(1400, 700);
-  window->SetMultiSamples(4);
-  window->AddRenderer(before);
-  window->AddRenderer(after);
-  vtkNew<ErrorObserver> windowErrors;
-  window->AddObserver(vtkCommand::ErrorEvent, windowErrors);
-  window->Render();
-  if (windowErrors->failed)
-  {
-    throw std::runtime_error("snapshot: rendering failed: " + windowErrors->message);
-  }
-
-  vtkNew<vtkWindowToImageFilter> grab;
-  grab->SetInput(window);
-  grab->ReadFrontBufferOff();
-  grab->Update();
-  vtkNew<vtkPNGWriter>  writer;
-  vtkNew<ErrorObserver> writerErrors;
-  writer->AddObserver(vtkCommand::ErrorEvent, writerErrors);
-  writer->SetFileName(fileName.c_str());
-  writer->SetInputConnection(grab->GetOutputPort());
-  writer->Write();
-  if (writerErrors->failed)
-  {
-    throw std::runtime_error("snapshot: cannot write the PNG file: " + writerErrors->message);
-  }
+  const SnapshotScene scene{ source, deformed, target, &beforeDistances, &afterDistances, &title, &fileName };
+  LoadRenderingModule()(scene);
 }
 } // namespace ffd

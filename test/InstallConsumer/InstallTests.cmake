@@ -2,7 +2,9 @@
 # module is installed in ITK's layout and found by ITK's own find_package(ITK COMPONENTS FFDShapeMatching),
 # which these tests do not cover). In order, through fixtures:
 #   FFDShapeMatchingInstall               cmake --install into a fresh temporary prefix; the files are there
-#   FFDShapeMatchingInstalledProgram      <prefix>/bin/ffd-match --help runs and finds <prefix>'s library
+#   FFDShapeMatchingInstalledProgram      <prefix>/bin/ffd-match --help runs and finds <prefix>'s library; the
+#                                         snapshot's module (loaded by --snapshot) finds it too, and renders
+#                                         (FFDShapeMatchingInstalledProgramSnapshot)
 #   FFDShapeMatchingInstallConsumerBuild  configures and builds test/InstallConsumer with find_package against
 #                                         the prefix, with this build's compilers, flags and ccache launcher
 #   FFDShapeMatchingInstallConsumerRun    the consumer reads two meshes and voxelizes one
@@ -18,7 +20,8 @@ set(_ffd_expected_files
   ${CMAKE_INSTALL_INCLUDEDIR}/FFDShapeMatching/FFDShapeMatchingExport.h
   ${CMAKE_INSTALL_INCLUDEDIR}/FFDShapeMatching/itkTriangleMeshToVoxelImageFilter.hxx)
 if(FFDShapeMatching_BUILD_APPLICATIONS)
-  list(APPEND _ffd_expected_files ${CMAKE_INSTALL_BINDIR}/ffd-match ${CMAKE_INSTALL_BINDIR}/ffd-voxelize)
+  list(APPEND _ffd_expected_files ${CMAKE_INSTALL_BINDIR}/ffd-match ${CMAKE_INSTALL_BINDIR}/ffd-voxelize
+    ${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDSnapshotRendering>)
 endif()
 add_test(NAME FFDShapeMatchingInstall
   COMMAND ${CMAKE_COMMAND} -DBUILD_DIR=${CMAKE_BINARY_DIR} -DPREFIX=${_ffd_prefix} -DCONFIG=$<CONFIG>
@@ -29,7 +32,9 @@ set_tests_properties(FFDShapeMatchingInstall PROPERTIES FIXTURES_SETUP FFDShapeM
 if(FFDShapeMatching_BUILD_APPLICATIONS)
   add_test(NAME FFDShapeMatchingInstalledProgram
     COMMAND ${CMAKE_COMMAND} -DPROGRAM=${_ffd_prefix}/${CMAKE_INSTALL_BINDIR}/ffd-match
-      -DLIBRARY_DIR=${_ffd_prefix}/${CMAKE_INSTALL_LIBDIR} -P ${_ffd_consumer_source}/CheckInstalledProgram.cmake)
+      -DLIBRARY_DIR=${_ffd_prefix}/${CMAKE_INSTALL_LIBDIR}
+      -DSNAPSHOT_MODULE=${_ffd_prefix}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDSnapshotRendering>
+      -P ${_ffd_consumer_source}/CheckInstalledProgram.cmake)
   set_tests_properties(FFDShapeMatchingInstalledProgram PROPERTIES FIXTURES_REQUIRED FFDShapeMatchingInstalled
     PASS_REGULAR_EXPRESSION "ffd-match --help ok, libFFDShapeMatching from the prefix")
 endif()
@@ -75,4 +80,20 @@ if(FFDShapeMatching_BUILD_APPLICATIONS)
     FIXTURES_REQUIRED FFDShapeMatchingInstalled TIMEOUT 120)
   set_tests_properties(FFDShapeMatchingInstalledExampleSameAsProgram PROPERTIES
     DEPENDS "FFDShapeMatchingInstalledExample;FFDShapeMatchingInstalledExampleProgram")
+
+  # The installed ffd-match loads the snapshot's rendering module from the prefix and renders (under xvfb-run, as
+  # ffd-matchSnapshot in the build tree).
+  find_program(FFDShapeMatching_XVFB_RUN xvfb-run)
+  if(NOT FFDShapeMatching_XVFB_RUN)
+    set(FFDShapeMatching_XVFB_RUN xvfb-run-is-missing-install-the-xvfb-package)
+  endif()
+  set(_ffd_snapshot_command ${FFDShapeMatching_XVFB_RUN} -a ${_ffd_prefix}/${CMAKE_INSTALL_BINDIR}/ffd-match
+    --source ${_ffd_demo}/source.vtp --target ${_ffd_demo}/target.vtp --method go --grid 6 --voxel-size 2
+    --levels 1 --iterations 10 --output ${_ffd_consumer_work}/snapshot.vtp --snapshot ${_ffd_consumer_work}/snapshot.png)
+  add_test(NAME FFDShapeMatchingInstalledProgramSnapshot
+    COMMAND ${CMAKE_COMMAND} -DPNG=${_ffd_consumer_work}/snapshot.png "-DCOMMAND=${_ffd_snapshot_command}"
+      -P ${CMAKE_CURRENT_LIST_DIR}/../../apps/CheckSnapshot.cmake)
+  set_tests_properties(FFDShapeMatchingInstalledProgramSnapshot PROPERTIES DEPENDS ffd-matchDemo
+    FIXTURES_REQUIRED FFDShapeMatchingInstalled PASS_REGULAR_EXPRESSION "snapshot ok: 1400 x 700" TIMEOUT 120
+    ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0")
 endif()
