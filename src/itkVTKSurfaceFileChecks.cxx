@@ -240,21 +240,25 @@ HasPLYProperty(const PLYElement & element, const std::string & name)
   });
 }
 
+/** The first element of this name, or elements.end(). */
+std::vector<PLYElement>::const_iterator
+FindPLYElement(const std::vector<PLYElement> & elements, const std::string & name)
+{
+  return std::find_if(
+    elements.begin(), elements.end(), [&name](const PLYElement & element) { return element.Name == name; });
+}
+
 /** The problem of declared elements that VTK 9.1's vtkPLYReader would misread, or "". It reads the vertex and face
  * elements only, in the file's order, and skips no other element: another element's data before theirs would be
  * read as vertices or faces. Within them it reads a list property only when it asked for one (face vertex_indices,
  * and face texcoord when the vertices have no texture coordinates): it sizes any other list by a type it never set,
- * and stores a list it asked for as a single value (or the reverse) over its own memory. Call it on elements that
- * hold a vertex element. */
+ * and stores a list it asked for as a single value (or the reverse) over its own memory. \c vertex is the elements'
+ * vertex element (FindPLYElement(), not their end), \c face their face element or their end. */
 std::string
-CheckPLYElementsForVTK(const std::vector<PLYElement> & elements)
+CheckPLYElementsForVTK(const std::vector<PLYElement> &               elements,
+                       const std::vector<PLYElement>::const_iterator vertex,
+                       const std::vector<PLYElement>::const_iterator face)
 {
-  const auto named = [&elements](const std::string & name) {
-    return std::find_if(
-      elements.begin(), elements.end(), [&name](const PLYElement & element) { return element.Name == name; });
-  };
-  const auto vertex = named("vertex");
-  const auto face = named("face");
   const auto lastRead = std::max(vertex, face == elements.end() ? vertex : face);
   for (auto element = elements.begin(); element < lastRead; ++element)
   {
@@ -480,8 +484,8 @@ CheckPLYFile(const std::string & fileName)
   {
     return "the PLY header has no format line";
   }
-  const auto vertexElement =
-    std::find_if(elements.begin(), elements.end(), [](const PLYElement & element) { return element.Name == "vertex"; });
+  const auto vertexElement = FindPLYElement(elements, "vertex");
+  const auto faceElement = FindPLYElement(elements, "face");
   if (vertexElement == elements.end())
   {
     return "the PLY header declares no vertex element";
@@ -496,17 +500,15 @@ CheckPLYFile(const std::string & fileName)
       return std::string("the PLY vertex element has no property ") + coordinate;
     }
   }
-  for (const PLYElement & element : elements)
+  // Element names are unique (the header loop refuses a second one), so the first face element is the only one.
+  if (faceElement != elements.end() && faceElement->Count > 0 &&
+      std::none_of(faceElement->Properties.begin(), faceElement->Properties.end(), [](const PLYProperty & property) {
+        return property.IsList && property.Name == "vertex_indices";
+      }))
   {
-    if (element.Name == "face" && element.Count > 0 &&
-        std::none_of(element.Properties.begin(), element.Properties.end(), [](const PLYProperty & property) {
-          return property.IsList && property.Name == "vertex_indices";
-        }))
-    {
-      return "the PLY face element has no list property vertex_indices";
-    }
+    return "the PLY face element has no list property vertex_indices";
   }
-  std::string vtkProblem = CheckPLYElementsForVTK(elements);
+  std::string vtkProblem = CheckPLYElementsForVTK(elements, vertexElement, faceElement);
   if (vtkProblem.empty())
   {
     vtkProblem = CompareWithVTKPLYHeader(fileName, elements);
