@@ -34,17 +34,18 @@ namespace ffd
 /** Sets the allocator up for a program that allocates and frees buffers of the same sizes many times (images,
  * sample arrays, solver work space), as a match does. Call it first in main. Without it, glibc gives every block
  * of 128 KiB or more back to the system when it is freed and trims its heap whenever 128 KiB lie free at the top,
- * so the next buffer of that size is faulted in afresh, 4 KiB at a time: about a tenth of ffd-match's CPU time on
- * the benchmark's cases went to those page faults. Here:
+ * so the next buffer of that size is faulted in afresh, 4 KiB at a time, every page zeroed by the kernel. Here:
  * - freed blocks up to 256 MiB stay with the program and are handed out again (larger ones, a large image, still
  *   get their own mapping and go back at once); the heap is trimmed only when 1 GiB lies free at its top. The
- *   resident memory never exceeds the run's peak: freed memory is reused, not added to.
+ *   resident memory stays at the run's peak: freed memory is reused, not added to.
  * - the first 256 MiB of heap address space are reserved at once and marked for transparent huge pages
  *   (madvise MADV_HUGEPAGE), so the kernel backs the heap with 2 MiB pages where it can: a five-hundredth of the
- *   faults, and fewer TLB misses. Untouched address space costs no memory; where the kernel has no free huge page
- *   or transparent huge pages are off, it uses 4 KiB pages as before.
- * On the benchmark's cases this removed 80-90 % of ffd-match's page faults and 15-20 % of its CPU time
- * (benchmark/PEERS_MESH.md, "The allocator"). Nothing is done where the C library is not glibc. */
+ *   faults, and fewer TLB misses. Untouched address space costs no memory (whole huge pages round the peak up a
+ *   little: 64 -> 70 MB on cheese); where the kernel has no free huge page or transparent huge pages are off, it
+ *   uses 4 KiB pages as before.
+ * On the benchmark's cases this removed 80-95 % of ffd-match's page faults (cheese 11 800 -> 2 300, bunny00 34 800 ->
+ * 2 000) and 10-25 % of its CPU time, with bit-identical results (benchmark/PEERS_MESH.md, "The allocator and
+ * start-up"). Nothing is done where the C library is not glibc. */
 inline void
 KeepFreedMemoryForReuse()
 {
