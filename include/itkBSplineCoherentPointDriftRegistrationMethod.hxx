@@ -66,6 +66,20 @@ DrawSampleIndices(std::vector<IdentifierType> candidates, unsigned int wanted, i
   return candidates;
 }
 
+/** \c values reordered: the i-th becomes the \c order[i]-th of before (\c order a permutation of its indices). */
+template <typename T>
+void
+ApplySampleOrder(const std::vector<size_t> & order, std::vector<T> & values)
+{
+  std::vector<T> reordered;
+  reordered.reserve(values.size());
+  for (const size_t i : order)
+  {
+    reordered.push_back(values[i]);
+  }
+  values.swap(reordered);
+}
+
 /** The cubic B-spline support of \c point on the control lattice \c coefficients (a coefficient image of the
  * transform), separably: the support is the 4 x 4 x 4 block of coefficients from the corner \c first (an index
  * i + n0 (j + n1 k) in a BSplineTransform's per-dimension parameter layout), with the weight
@@ -398,6 +412,19 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
       weights.push_back(w);
       derivativeWeights.push_back(dw);
     }
+    // The samples in the order of their supports' corners (the lattice's memory order), so that consecutive samples
+    // gather and scatter mostly the same coefficients: a shuffled target's vertices would visit the lattice at
+    // random.
+    std::vector<size_t> order(firsts.size());
+    for (size_t i = 0; i < order.size(); ++i)
+    {
+      order[i] = i;
+    }
+    std::stable_sort(order.begin(), order.end(), [&firsts](size_t a, size_t b) { return firsts[a] < firsts[b]; });
+    detail::ApplySampleOrder(order, y);
+    detail::ApplySampleOrder(order, firsts);
+    detail::ApplySampleOrder(order, weights);
+    detail::ApplySampleOrder(order, derivativeWeights);
   }
   const size_t numberOfFixed = y.size();
   if (numberOfFixed < 10)
@@ -557,12 +584,10 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   unsigned int       iteration = 0;
 
   // The E-step's sums and the reverse direction's shares, allocated once for every iteration.
-  std::vector<double>                       mass(numberOfFixed);
-  std::vector<std::array<double, 3>>        pulled(numberOfFixed);
-  std::vector<double>                       squares(numberOfFixed);
-  std::vector<std::array<unsigned int, 64>> shareIds;
-  std::vector<std::array<double, 64>>       shares;
-  std::vector<unsigned int>                 shareCounts;
+  std::vector<double>                mass(numberOfFixed);
+  std::vector<std::array<double, 3>> pulled(numberOfFixed);
+  std::vector<double>                squares(numberOfFixed);
+  std::vector<unsigned int>          shareCounts; // a source sample's shares: its first pairs in reversePairs
   // The neighbour searches: each mapped target sample's candidate list of source samples (it moves, they do not;
   // a list reaches 1.25 times the search radius), the pairs closer than the search radius found from them (per
   // target sample), and the same pairs per source sample for the reverse direction (pairStart[n] to
@@ -678,11 +703,6 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
           }
         }
         const double outlier = w / (1.0 - w) * 2.0 * Math::pi * sigma2 * density;
-        if (shareIds.size() != numberOfMoving)
-        {
-          shareIds.resize(numberOfMoving);
-          shares.resize(numberOfMoving);
-        }
         shareCounts.assign(numberOfMoving, 0);
         threader->ParallelizeArray(
           0,
@@ -707,17 +727,18 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
             {
               return;
             }
-            double total = outlier;
+            // The shares overwrite the first of the source sample's own pairs, all read by now (found is at most
+            // their number): (target sample, share).
+            auto * const share = reversePairs.data() + pairStart[n];
+            double       total = outlier;
             for (size_t j = 0; j < found; ++j)
             {
-              const double d2 = squaredDistances[j];
-              shares[n][j] = std::exp(-0.5 * d2 / sigma2);
-              shareIds[n][j] = static_cast<unsigned int>(neighbors[j]);
-              total += shares[n][j];
+              share[j] = { static_cast<unsigned int>(neighbors[j]), std::exp(-0.5 * squaredDistances[j] / sigma2) };
+              total += share[j].second;
             }
             for (size_t j = 0; j < found; ++j)
             {
-              shares[n][j] *= (1.0 - forward) / total;
+              share[j].second *= (1.0 - forward) / total;
             }
             shareCounts[n] = static_cast<unsigned int>(found);
           },
@@ -727,8 +748,8 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
           const double xx = x[n].GetVectorFromOrigin().GetSquaredNorm();
           for (unsigned int j = 0; j < shareCounts[n]; ++j)
           {
-            const unsigned int m = shareIds[n][j];
-            const double       p = shares[n][j];
+            const unsigned int m = reversePairs[pairStart[n] + j].first;
+            const double       p = reversePairs[pairStart[n] + j].second;
             mass[m] += p;
             for (unsigned int d = 0; d < Dimension; ++d)
             {
