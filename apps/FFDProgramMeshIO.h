@@ -23,6 +23,7 @@
 
 #include "FFDInputFiles.h"
 #include "FFDProgramSupport.h"
+#include "FFDVTKMeshFormats.h"
 #include "itkMeshFileReader.h"
 #include "itkMeshFileWriter.h"
 #include "itkMeshPolygonTriangles.h"
@@ -39,6 +40,22 @@
 
 namespace ffd
 {
+/** PrepareMeshFormat(fileName): loads the VTK formats module for an STL, PLY or VTP file; its failure is thrown as
+ * \c TError after \c what (e.g. "cannot read source mesh 'part.stl'"). */
+template <typename TError>
+void
+PrepareMeshFormatOrThrow(const std::string & fileName, const std::string & what)
+{
+  try
+  {
+    PrepareMeshFormat(fileName);
+  }
+  catch (const std::runtime_error & error)
+  {
+    throw TError(what + ": " + error.what());
+  }
+}
+
 /** Reads the mesh \c fileName (\c role names it in messages: "source", "target", ...) and checks it: a readable,
  * non-empty regular file of at most \c maximumSize bytes (CheckInputFile: a FIFO or a device is refused before any
  * reader opens it), points present and finite, at least one triangle or polygon cell. Throws \c TError otherwise.
@@ -51,6 +68,7 @@ ReadCheckedMesh(const std::string & fileName,
                 std::uintmax_t      maximumSize = MaximumMeshFileSize)
 {
   CheckInputFile<TError>(fileName, role + " mesh", maximumSize);
+  PrepareMeshFormatOrThrow<TError>(fileName, "cannot read " + role + " mesh '" + fileName + "'");
   auto reader = itk::MeshFileReader<TMesh>::New();
   reader->SetFileName(fileName);
   try
@@ -109,6 +127,7 @@ template <typename TError, typename TMesh>
 void
 WriteMeshFile(const TMesh * mesh, const std::string & fileName, const std::string & shownName)
 {
+  PrepareMeshFormatOrThrow<TError>(fileName, "cannot write mesh '" + shownName + "'");
   auto writer = itk::MeshFileWriter<TMesh>::New();
   writer->SetInput(mesh);
   writer->SetFileName(fileName);

@@ -21,10 +21,6 @@
 #include "FFDProgramSupport.h"
 #include "itkObjectFactory.h"
 #include "itkOutputWindow.h"
-#include "vtkLogger.h"
-#include "vtkObjectFactory.h"
-#include "vtkOutputWindow.h"
-#include "vtkSmartPointer.h"
 
 #include <mutex>
 #include <vector>
@@ -47,8 +43,30 @@ Messages()
   return messages;
 }
 
+class CollectingITKOutputWindow : public itk::OutputWindow
+{
+public:
+  ITK_DISALLOW_COPY_AND_MOVE(CollectingITKOutputWindow);
+  using Self = CollectingITKOutputWindow;
+  using Superclass = itk::OutputWindow;
+  using Pointer = itk::SmartPointer<Self>;
+  itkNewMacro(Self);
+  itkOverrideGetNameOfClassMacro(CollectingITKOutputWindow);
+
+  void
+  DisplayText(const char * text) override
+  {
+    AddLibraryMessage(text);
+  }
+
+protected:
+  CollectingITKOutputWindow() = default;
+  ~CollectingITKOutputWindow() override = default;
+};
+} // namespace
+
 void
-AddMessage(const char * text)
+AddLibraryMessage(const char * text)
 {
   if (text == nullptr)
   {
@@ -83,53 +101,9 @@ AddMessage(const char * text)
   }
 }
 
-class CollectingVTKOutputWindow : public vtkOutputWindow
-{
-public:
-  vtkTypeMacro(CollectingVTKOutputWindow, vtkOutputWindow);
-  static CollectingVTKOutputWindow *
-  New();
-
-  void
-  DisplayText(const char * text) override
-  {
-    AddMessage(text);
-  }
-
-protected:
-  CollectingVTKOutputWindow() = default;
-  ~CollectingVTKOutputWindow() override = default;
-};
-vtkStandardNewMacro(CollectingVTKOutputWindow);
-
-class CollectingITKOutputWindow : public itk::OutputWindow
-{
-public:
-  ITK_DISALLOW_COPY_AND_MOVE(CollectingITKOutputWindow);
-  using Self = CollectingITKOutputWindow;
-  using Superclass = itk::OutputWindow;
-  using Pointer = itk::SmartPointer<Self>;
-  itkNewMacro(Self);
-  itkOverrideGetNameOfClassMacro(CollectingITKOutputWindow);
-
-  void
-  DisplayText(const char * text) override
-  {
-    AddMessage(text);
-  }
-
-protected:
-  CollectingITKOutputWindow() = default;
-  ~CollectingITKOutputWindow() override = default;
-};
-} // namespace
-
 void
 CollectLibraryMessages()
 {
-  vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
-  auto vtkWindow = vtkSmartPointer<CollectingVTKOutputWindow>::New();
-  vtkOutputWindow::SetInstance(vtkWindow);
   itk::OutputWindow::SetInstance(CollectingITKOutputWindow::New());
 }
 

@@ -19,18 +19,21 @@
 #define FFDProgramMessages_h
 
 // Keeps VTK's and ITK's own messages off the stderr of the module's command-line programs, so that a refusal is
-// the program's one line: call CollectLibraryMessages() at the start of main.
+// the program's one line: call CollectLibraryMessages() at the start of main (ITK's messages); VTK's come through
+// AddLibraryMessage() from the VTK formats module, which the programs load only when VTK is needed.
 
 #include <string>
 
 namespace ffd
 {
-/** Replaces VTK's output window (vtkOutputWindow::SetInstance) and ITK's (itk::OutputWindow::SetInstance) by
- * windows that collect the messages instead of printing them, and turns VTK's logger's stderr output (the
- * coloured "ERR|" lines) off. VTK's global warning display stays on: VTK 9.1 sends an object's ErrorEvent only
- * when it is on, and the module's readers observe those events to turn VTK's errors into exceptions. */
+/** Replaces ITK's output window (itk::OutputWindow::SetInstance) by one that collects the messages instead of
+ * printing them. (VTK's output window and logger are set the same way by the VTK formats module when it loads.) */
 void
 CollectLibraryMessages();
+
+/** Keeps one library message (VTK's, handed on by the VTK formats module, FFDVTKMeshFormats.h). */
+void
+AddLibraryMessage(const char * text);
 
 /** The first message VTK or ITK gave since CollectLibraryMessages() or the last ClearLibraryMessages(), on one
  * line without VTK's "In file, line" preamble, or "" when there was none. */

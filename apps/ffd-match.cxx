@@ -36,7 +36,7 @@
 #include "FFDSnapshot.h"
 #include "itkMeshSurfaceDistanceCalculator.h"
 #include "itkMultiThreaderBase.h"
-#include "itkRegisterFFDShapeMatchingMeshIOFactories.h"
+#include "itkRegisterFFDShapeMatchingTextMeshIOFactories.h"
 #include "itkTransformFileReader.h"
 #include "itkTransformFileWriter.h"
 #include "itkTransformIOFactory.h"
@@ -391,7 +391,7 @@ main(int argc, char * argv[])
       itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(options.threads);
       itk::MultiThreaderBase::SetGlobalMaximumNumberOfThreads(options.threads);
     }
-    itk::RegisterFFDShapeMatchingMeshIOFactories();
+    itk::RegisterFFDShapeMatchingTextMeshIOFactories();
     if (options.demo)
     {
       return ffd::RunDemo(options);

@@ -28,6 +28,7 @@
 
 #include "FFDAllocatorSettings.h"
 #include "FFDInputFiles.h"
+#include "FFDProgramMeshIO.h"
 #include "FFDOutputFiles.h"
 #include "FFDProgramMessages.h"
 #include "FFDProgramSupport.h"
@@ -38,7 +39,7 @@
 #include "itkMesh.h"
 #include "itkMeshFileReader.h"
 #include "itkMultiThreaderBase.h"
-#include "itkRegisterFFDShapeMatchingMeshIOFactories.h"
+#include "itkRegisterFFDShapeMatchingTextMeshIOFactories.h"
 #include "itkTriangleMeshToVoxelImageFilter.h"
 
 #include <chrono>
@@ -432,13 +433,14 @@ main(int argc, char * argv[])
     {
       itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(options.threads);
     }
-    itk::RegisterFFDShapeMatchingMeshIOFactories();
+    itk::RegisterFFDShapeMatchingTextMeshIOFactories();
     CurrentTask = "read the mesh";
     ffd::CheckInputFile<std::runtime_error>(options.meshFile, "mesh", ffd::MaximumMeshFileSize);
     ffd::OutputFiles  outputs("ffd-voxelize");
     const OutputNames names = DeclareOutputs(options, outputs);
     const auto        readStart = ClockType::now();
-    auto              reader = itk::MeshFileReader<MeshType>::New();
+    ffd::PrepareMeshFormatOrThrow<std::runtime_error>(options.meshFile, "cannot read mesh '" + options.meshFile + "'");
+    auto reader = itk::MeshFileReader<MeshType>::New();
     reader->SetFileName(options.meshFile);
     try
     {

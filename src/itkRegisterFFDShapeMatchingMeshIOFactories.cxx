@@ -17,41 +17,15 @@
  *=========================================================================*/
 #include "itkRegisterFFDShapeMatchingMeshIOFactories.h"
 
-#include "itkOBJMeshIOFactory.h"
-#include "itkOFFMeshIOFactory.h"
-#include "itkStrictTextMeshIOFactory.h"
-#include "itkVTKPolyDataMeshIOFactory.h"
+#include "itkRegisterFFDShapeMatchingTextMeshIOFactories.h"
 #include "itkVTKSurfaceMeshIOFactory.h"
 
 namespace itk
 {
-namespace
-{
-/** Registers a factory of type TFactory unless one is registered already. */
-template <typename TFactory>
-void
-RegisterFactoryOnce()
-{
-  for (ObjectFactoryBase * factory : ObjectFactoryBase::GetRegisteredFactories())
-  {
-    if (dynamic_cast<TFactory *>(factory) != nullptr)
-    {
-      return;
-    }
-  }
-  TFactory::RegisterOneFactory();
-}
-} // namespace
-
 void
 RegisterFFDShapeMatchingMeshIOFactories()
 {
-  RegisterFactoryOnce<OFFMeshIOFactory>();
-  RegisterFactoryOnce<OBJMeshIOFactory>();
-  RegisterFactoryOnce<VTKPolyDataMeshIOFactory>();
-  RegisterFactoryOnce<VTKSurfaceMeshIOFactory>();
-  // Inserted at the front: MeshIOFactory asks the IOs in registration order, so the strict
-  // reader takes .off, .obj and .vtk files before ITK's IOs above (which still write them).
-  RegisterFactoryOnce<StrictTextMeshIOFactory>();
+  RegisterFFDShapeMatchingTextMeshIOFactories();
+  RegisterMeshIOFactoryOnce<VTKSurfaceMeshIOFactory>();
 }
 } // namespace itk

@@ -1,7 +1,8 @@
-# cmake -DPROGRAM=<prefix>/bin/ffd-match -DLIBRARY_DIR=<prefix>/lib [-DSNAPSHOT_MODULE=<prefix>/lib/module.so]
+# cmake -DPROGRAM=<prefix>/bin/ffd-match -DLIBRARY_DIR=<prefix>/lib ["-DMODULES=<prefix>/lib/a.so;<prefix>/lib/b.so"]
 #   -P CheckInstalledProgram.cmake
-# The installed program runs (--help) and loads the module's library from LIBRARY_DIR, through its RPATH; so does
-# the snapshot's rendering module that ffd-match loads for --snapshot, which must be installed in LIBRARY_DIR.
+# The installed program runs (--help) and loads the module's library from LIBRARY_DIR, through its RPATH; so do
+# the modules it loads when it needs them (the snapshot's rendering, VTK's formats), which must be installed in
+# LIBRARY_DIR.
 set(ENV{LD_LIBRARY_PATH} "")
 execute_process(COMMAND "${PROGRAM}" --help RESULT_VARIABLE _result OUTPUT_VARIABLE _output ERROR_VARIABLE _output)
 if(NOT _result EQUAL 0 OR NOT _output MATCHES "--source")
@@ -23,11 +24,11 @@ if(NOT _loaded_dir STREQUAL _expected_dir)
 endif()
 message(STATUS "ffd-match --help ok, libFFDShapeMatching from the prefix (${_loaded_dir})")
 
-if(DEFINED SNAPSHOT_MODULE)
-  if(NOT EXISTS "${SNAPSHOT_MODULE}")
-    message(FATAL_ERROR "the snapshot's rendering module ${SNAPSHOT_MODULE} is not installed")
+foreach(_module IN LISTS MODULES)
+  if(NOT EXISTS "${_module}")
+    message(FATAL_ERROR "the program's module ${_module} is not installed")
   endif()
-  execute_process(COMMAND "${_ldd}" "${SNAPSHOT_MODULE}" RESULT_VARIABLE _result OUTPUT_VARIABLE _libraries
+  execute_process(COMMAND "${_ldd}" "${_module}" RESULT_VARIABLE _result OUTPUT_VARIABLE _libraries
     ERROR_VARIABLE _libraries)
   string(REGEX MATCH "libFFDShapeMatchingVTKIO[^\n]*=> *([^ \n]*)" _line "${_libraries}")
   set(_module_dir "")
@@ -36,7 +37,8 @@ if(DEFINED SNAPSHOT_MODULE)
     get_filename_component(_module_dir "${_module_dir}" REALPATH)
   endif()
   if(NOT _result EQUAL 0 OR _libraries MATCHES "not found" OR NOT _module_dir STREQUAL _expected_dir)
-    message(FATAL_ERROR "${SNAPSHOT_MODULE} does not load libFFDShapeMatchingVTKIO from ${_expected_dir}:\n${_libraries}")
+    message(FATAL_ERROR "${_module} does not load libFFDShapeMatchingVTKIO from ${_expected_dir}:\n${_libraries}")
   endif()
-  message(STATUS "the snapshot's module loads libFFDShapeMatchingVTKIO from the prefix too")
-endif()
+  get_filename_component(_module_name "${_module}" NAME)
+  message(STATUS "the module ${_module_name} loads libFFDShapeMatchingVTKIO from the prefix too")
+endforeach()

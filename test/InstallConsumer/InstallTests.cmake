@@ -3,8 +3,9 @@
 # which these tests do not cover). In order, through fixtures:
 #   FFDShapeMatchingInstall               cmake --install into a fresh temporary prefix; the files are there
 #   FFDShapeMatchingInstalledProgram      <prefix>/bin/ffd-match --help runs and finds <prefix>'s library; the
-#                                         snapshot's module (loaded by --snapshot) finds it too, and renders
-#                                         (FFDShapeMatchingInstalledProgramSnapshot)
+#                                         program's modules (the snapshot's, loaded by --snapshot, and VTK's
+#                                         formats, loaded for STL, PLY and VTP files) find it too; the snapshot
+#                                         renders (FFDShapeMatchingInstalledProgramSnapshot)
 #   FFDShapeMatchingInstallConsumerBuild  configures and builds test/InstallConsumer with find_package against
 #                                         the prefix, with this build's compilers, flags and ccache launcher
 #   FFDShapeMatchingInstallConsumerRun    the consumer reads two meshes and voxelizes one
@@ -21,7 +22,8 @@ set(_ffd_expected_files
   ${CMAKE_INSTALL_INCLUDEDIR}/FFDShapeMatching/itkTriangleMeshToVoxelImageFilter.hxx)
 if(FFDShapeMatching_BUILD_APPLICATIONS)
   list(APPEND _ffd_expected_files ${CMAKE_INSTALL_BINDIR}/ffd-match ${CMAKE_INSTALL_BINDIR}/ffd-voxelize
-    ${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDSnapshotRendering>)
+    ${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDSnapshotRendering>
+    ${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDVTKFormatsModule>)
 endif()
 add_test(NAME FFDShapeMatchingInstall
   COMMAND ${CMAKE_COMMAND} -DBUILD_DIR=${CMAKE_BINARY_DIR} -DPREFIX=${_ffd_prefix} -DCONFIG=$<CONFIG>
@@ -33,7 +35,7 @@ if(FFDShapeMatching_BUILD_APPLICATIONS)
   add_test(NAME FFDShapeMatchingInstalledProgram
     COMMAND ${CMAKE_COMMAND} -DPROGRAM=${_ffd_prefix}/${CMAKE_INSTALL_BINDIR}/ffd-match
       -DLIBRARY_DIR=${_ffd_prefix}/${CMAKE_INSTALL_LIBDIR}
-      -DSNAPSHOT_MODULE=${_ffd_prefix}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDSnapshotRendering>
+      "-DMODULES=${_ffd_prefix}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDSnapshotRendering>;${_ffd_prefix}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDVTKFormatsModule>"
       -P ${_ffd_consumer_source}/CheckInstalledProgram.cmake)
   set_tests_properties(FFDShapeMatchingInstalledProgram PROPERTIES FIXTURES_REQUIRED FFDShapeMatchingInstalled
     PASS_REGULAR_EXPRESSION "ffd-match --help ok, libFFDShapeMatching from the prefix")
