@@ -71,6 +71,8 @@ DeclareOutputs(const Options & options, OutputFiles & outputs)
       outputs.AddInput(options.templates);
     }
     names[0] = outputs.Add(options.output, "--output", { ".off", ".obj", ".vtk", ".vtp", ".stl", ".ply" }, false);
+    // An STL, PLY or VTP output needs VTK's formats: their module is loaded (or found missing) before any work.
+    PrepareMeshFormatOrThrow<Error>(options.output, "cannot write mesh '" + options.output + "'");
     if (!options.transformOut.empty())
     {
       names[1] = outputs.Add(options.transformOut, "--transform-out", {}, false);
