@@ -22,8 +22,10 @@
 #include "itkMesh.h"
 #include "itkMeshFileReader.h"
 #include "itkMeshFileWriter.h"
+#include "itkMeshIOFactory.h"
 #include "itkObjectFactoryBase.h"
 #include "itkRegisterFFDShapeMatchingMeshIOFactories.h"
+#include "itkRegisterFFDShapeMatchingTextMeshIOFactories.h"
 #include "itkTriangleCell.h"
 #include "gtest/gtest.h"
 
@@ -120,6 +122,55 @@ RoundTripError(const MeshType * mesh, const std::string & fileName, bool anyOrde
   return largest;
 }
 } // namespace
+
+// The text formats' registration (no VTK) and the whole one: each factory registered once however often they are
+// called (or after ITK's automatic registration), the strict reader in front for .off, .obj and .vtk, and VTK's
+// surface IO reading .stl after the whole registration.
+TEST(MeshFileIO, RegistrationsRegisterEachFactoryOnce)
+{
+  const auto count = [](const char * name) {
+    int found = 0;
+    for (itk::ObjectFactoryBase * factory : itk::ObjectFactoryBase::GetRegisteredFactories())
+    {
+      found += std::string(factory->GetNameOfClass()) == name ? 1 : 0;
+    }
+    return found;
+  };
+  const auto readerOf = [](const char * fileName) {
+    const auto io = itk::MeshIOFactory::CreateMeshIO(fileName, itk::IOFileModeEnum::ReadMode);
+    return io.IsNull() ? std::string() : std::string(io->GetNameOfClass());
+  };
+  for (int call = 0; call < 2; ++call)
+  {
+    itk::RegisterFFDShapeMatchingTextMeshIOFactories();
+    for (const char * name :
+         { "OFFMeshIOFactory", "OBJMeshIOFactory", "VTKPolyDataMeshIOFactory", "StrictTextMeshIOFactory" })
+    {
+      EXPECT_EQ(count(name), 1) << name << " after call " << call;
+    }
+  }
+  // The reader an IO factory gives for an existing file of each format.
+  const auto folder = TemporaryFolder();
+  const auto fileOf = [&folder](const char * extension) {
+    const std::string fileName = (folder / (std::string("part") + extension)).string();
+    auto              writer = itk::MeshFileWriter<MeshType>::New();
+    writer->SetInput(FarTetrahedron());
+    writer->SetFileName(fileName);
+    writer->Update();
+    return fileName;
+  };
+  for (const char * extension : { ".off", ".obj", ".vtk" })
+  {
+    EXPECT_EQ(readerOf(fileOf(extension).c_str()), "StrictTextMeshIO") << extension;
+  }
+  itk::RegisterFFDShapeMatchingMeshIOFactories();
+  itk::RegisterFFDShapeMatchingMeshIOFactories();
+  EXPECT_EQ(count("VTKSurfaceMeshIOFactory"), 1);
+  EXPECT_EQ(count("StrictTextMeshIOFactory"), 1);
+  EXPECT_EQ(readerOf(fileOf(".stl").c_str()), "VTKSurfaceMeshIO");
+  EXPECT_EQ(readerOf(fileOf(".off").c_str()), "StrictTextMeshIO");
+  std::filesystem::remove_all(folder);
+}
 
 // OFF, OBJ, legacy VTK and VTP hold double coordinates: a round trip 1e7 mm from the origin is exact to 1e-6 mm.
 // Binary STL is float32 by format and VTK 9.1's PLY reader and writer are float32: their error at 1e7 mm is up
