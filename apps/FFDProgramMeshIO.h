@@ -30,9 +30,7 @@
 #include "itkTriangleCell.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <string>
@@ -159,11 +157,7 @@ WriteCheckedMeshFile(const TMesh * mesh, const std::string & fileName, const std
     throw TError("cannot write mesh '" + shownName + "': the written file does not read back (" +
                  OneLine(error.GetDescription()) + "); is the disk full or a file size limit reached?");
   }
-  std::string extension = std::filesystem::path(fileName).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) {
-    return static_cast<char>(std::tolower(c));
-  });
-  if (extension != ".stl" && reader->GetOutput()->GetNumberOfPoints() != mesh->GetNumberOfPoints())
+  if (LowerCaseExtension(fileName) != ".stl" && reader->GetOutput()->GetNumberOfPoints() != mesh->GetNumberOfPoints())
   {
     throw TError("cannot write mesh '" + shownName + "': the written file holds " +
                  std::to_string(reader->GetOutput()->GetNumberOfPoints()) + " points, not " +

@@ -23,6 +23,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <mutex>
 
 // Set by apps/CMakeLists.txt: the module's file name.
@@ -32,18 +33,20 @@
 
 namespace ffd
 {
-bool
-IsVTKMeshFormat(const std::string & fileName)
+std::string
+LowerCaseExtension(const std::string & fileName)
 {
-  const auto dot = fileName.rfind('.');
-  if (dot == std::string::npos || fileName.find('/', dot) != std::string::npos)
-  {
-    return false;
-  }
-  std::string extension = fileName.substr(dot);
+  std::string extension = std::filesystem::path(fileName).extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) {
     return static_cast<char>(std::tolower(c));
   });
+  return extension;
+}
+
+bool
+IsVTKMeshFormat(const std::string & fileName)
+{
+  const std::string extension = LowerCaseExtension(fileName);
   return extension == ".stl" || extension == ".ply" || extension == ".vtp";
 }
 

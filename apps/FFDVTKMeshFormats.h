@@ -34,6 +34,10 @@ namespace ffd
 constexpr const char * VTKMeshFormatsEntryPointName = "FFDShapeMatchingLoadVTKMeshFormats";
 using VTKMeshFormatsEntryPoint = void (*)(void (*addMessage)(const char *));
 
+/** \c fileName's extension in lower case (".stl" for "part.STL"; "" when there is none). */
+std::string
+LowerCaseExtension(const std::string & fileName);
+
 /** Whether \c fileName's format is one of VTK's: its extension is .stl, .ply or .vtp (any case). */
 bool
 IsVTKMeshFormat(const std::string & fileName);
