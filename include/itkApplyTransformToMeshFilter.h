@@ -40,7 +40,10 @@ namespace itk
  * halved until the residual \f$|T(x) - p|\f$ decreases; if it does not, or the Jacobian is singular,
  * fixed-point iteration \f$x \leftarrow x + (p - T(x))\f$ (damped the same way) continues from the
  * best estimate. A vertex has converged when its residual is below InverseTolerance (mm) within
- * MaximumNumberOfInverseIterations iterations of each scheme. A vertex that has not converged keeps
+ * MaximumNumberOfInverseIterations iterations of each scheme. A scheme also stops when one of its
+ * iterations lowers the residual by less than MinimumInverseResidualDecrease (a fraction of the residual): where
+ * a vertex has no preimage the residual levels off above zero, and the iterations would otherwise go on, each with
+ * up to 30 halvings, for a gain of a millionth of it. A vertex that has not converged keeps
  * its best estimate and is flagged: GetInverseConverged() holds one flag per vertex (in point
  * container order), GetInverseResiduals() the final residual per vertex, and
  * GetNumberOfNonConvergedPoints() their count. These are valid after Update() in inverse mode.
@@ -123,6 +126,11 @@ public:
   itkSetMacro(MaximumNumberOfInverseIterations, unsigned int);
   itkGetConstMacro(MaximumNumberOfInverseIterations, unsigned int);
 
+  /** Fraction of the residual below which one iteration's decrease stops an inverse scheme (Newton, then fixed
+   * point). In [0, 1); 0 continues while the residual decreases at all. Default: 1e-3. */
+  itkSetMacro(MinimumInverseResidualDecrease, double);
+  itkGetConstMacro(MinimumInverseResidualDecrease, double);
+
   /** Step (mm) of the finite differences used when the transform has no spatial Jacobian. Default: 1e-4. */
   itkSetMacro(FiniteDifferenceStep, double);
   itkGetConstMacro(FiniteDifferenceStep, double);
@@ -163,6 +171,7 @@ private:
   bool                  m_Inverse{ false };
   double                m_InverseTolerance{ 1e-6 };
   unsigned int          m_MaximumNumberOfInverseIterations{ 50 };
+  double                m_MinimumInverseResidualDecrease{ 1e-3 };
   double                m_FiniteDifferenceStep{ 1e-4 };
   SizeValueType         m_NumberOfNonConvergedPoints{ 0 };
   double                m_MaximumInverseResidual{ 0.0 };

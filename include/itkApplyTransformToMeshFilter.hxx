@@ -115,6 +115,7 @@ ApplyTransformToMeshFilter<TInputMesh, TOutputMesh, TTransform>::PrintSelf(std::
   os << indent << "Inverse: " << (m_Inverse ? "On" : "Off") << std::endl;
   os << indent << "InverseTolerance: " << m_InverseTolerance << std::endl;
   os << indent << "MaximumNumberOfInverseIterations: " << m_MaximumNumberOfInverseIterations << std::endl;
+  os << indent << "MinimumInverseResidualDecrease: " << m_MinimumInverseResidualDecrease << std::endl;
   os << indent << "FiniteDifferenceStep: " << m_FiniteDifferenceStep << std::endl;
   os << indent << "NumberOfNonConvergedPoints: " << m_NumberOfNonConvergedPoints << std::endl;
   os << indent << "MaximumInverseResidual: " << m_MaximumInverseResidual << std::endl;
@@ -138,6 +139,11 @@ ApplyTransformToMeshFilter<TInputMesh, TOutputMesh, TTransform>::VerifyPrecondit
   if (m_MaximumNumberOfInverseIterations == 0)
   {
     itkExceptionMacro(<< "MaximumNumberOfInverseIterations must be at least 1");
+  }
+  if (!(m_MinimumInverseResidualDecrease >= 0.0 && m_MinimumInverseResidualDecrease < 1.0))
+  {
+    itkExceptionMacro(<< "MinimumInverseResidualDecrease must be in [0, 1), it is "
+                      << m_MinimumInverseResidualDecrease);
   }
   if (!(m_FiniteDifferenceStep > 0.0))
   {
@@ -212,14 +218,21 @@ ApplyTransformToMeshFilter<TInputMesh, TOutputMesh, TTransform>::InvertPoint(
     return false;
   };
 
+  // An iteration that lowered the residual by less than the fraction: the residual has levelled off (no preimage).
+  const auto levelsOff = [this, &residual](double before) {
+    return residual >= m_InverseTolerance && before - residual < m_MinimumInverseResidualDecrease * before;
+  };
+
   // Damped Newton iteration.
   typename JacobianEvaluatorType::MatrixType jacobian;
   for (unsigned int iteration = 0; iteration < m_MaximumNumberOfInverseIterations && residual >= m_InverseTolerance;
        ++iteration)
   {
     jacobianEvaluator.Evaluate(solution, jacobian);
-    double step[PointDimension];
-    if (!detail::SolveSmallLinearSystem<PointDimension>(jacobian, residualVector, step) || !dampedStep(step))
+    double       step[PointDimension];
+    const double before = residual;
+    if (!detail::SolveSmallLinearSystem<PointDimension>(jacobian, residualVector, step) || !dampedStep(step) ||
+        levelsOff(before))
     {
       break;
     }
@@ -231,7 +244,8 @@ ApplyTransformToMeshFilter<TInputMesh, TOutputMesh, TTransform>::InvertPoint(
   {
     double fixedPointStep[PointDimension];
     std::copy(residualVector, residualVector + PointDimension, fixedPointStep);
-    if (!dampedStep(fixedPointStep))
+    const double before = residual;
+    if (!dampedStep(fixedPointStep) || levelsOff(before))
     {
       break;
     }
