@@ -159,10 +159,10 @@ protected:
   void
   GenerateData() override;
 
-  /** Solves T(x) = target for one vertex; returns true if converged, writes the best x and its residual. */
+  /** Solves T(x) = target for one vertex, T as the evaluator (initialized with the transform) evaluates it and its
+   * spatial Jacobian; returns true if converged, writes the best x and its residual. */
   bool
-  InvertPoint(const TransformType &         transform,
-              const JacobianEvaluatorType & jacobianEvaluator,
+  InvertPoint(const JacobianEvaluatorType & jacobianEvaluator,
               const TransformPointType &    target,
               TransformPointType &          solution,
               double &                      residual) const;

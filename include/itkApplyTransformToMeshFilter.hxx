@@ -154,7 +154,6 @@ ApplyTransformToMeshFilter<TInputMesh, TOutputMesh, TTransform>::VerifyPrecondit
 template <typename TInputMesh, typename TOutputMesh, typename TTransform>
 bool
 ApplyTransformToMeshFilter<TInputMesh, TOutputMesh, TTransform>::InvertPoint(
-  const TransformType &         transform,
   const JacobianEvaluatorType & jacobianEvaluator,
   const TransformPointType &    target,
   TransformPointType &          solution,
@@ -163,8 +162,10 @@ ApplyTransformToMeshFilter<TInputMesh, TOutputMesh, TTransform>::InvertPoint(
   constexpr unsigned int maximumNumberOfHalvings = 30;
   double                 residualVector[PointDimension];
 
-  const auto evaluate = [&transform, &target](const TransformPointType & x, double(&r)[PointDimension]) -> double {
-    const auto image = transform.TransformPoint(x);
+  // T(x) through the evaluator: the transform's own arithmetic, without ITK's per-call arrays for B-splines.
+  const auto evaluate = [&jacobianEvaluator, &target](const TransformPointType & x,
+                                                      double(&r)[PointDimension]) -> double {
+    const auto image = jacobianEvaluator.TransformPoint(x);
     double     squaredNorm = 0.0;
     for (unsigned int i = 0; i < PointDimension; ++i)
     {
@@ -317,7 +318,7 @@ ApplyTransformToMeshFilter<TInputMesh, TOutputMesh, TTransform>::GenerateData()
         if (m_Inverse)
         {
           double residual = 0.0;
-          m_InverseConverged[k] = this->InvertPoint(*transform, jacobianEvaluator, points[k], results[k], residual);
+          m_InverseConverged[k] = this->InvertPoint(jacobianEvaluator, points[k], results[k], residual);
           m_InverseResiduals[k] = residual;
         }
         else

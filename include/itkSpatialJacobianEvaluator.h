@@ -44,8 +44,12 @@ namespace detail
  * - any other transform uses its own ComputeJacobianWithRespectToPosition() if it implements it,
  *   otherwise central finite differences of TransformPoint() with step FiniteDifferenceStep (mm).
  *
- * Initialize() inspects the transform once; Evaluate() is const and may be called from many threads.
- * The transform must stay unchanged between Initialize() and the last Evaluate().
+ * TransformPoint() evaluates T itself with the same arithmetic as the transform's own TransformPoint() (the same
+ * value to the last bit): for a cubic BSplineTransform, and such members of a CompositeTransform, without the
+ * weight and index arrays that ITK allocates on every call; for any other transform, its own.
+ *
+ * Initialize() inspects the transform once; Evaluate() and TransformPoint() are const and may be called from many
+ * threads. The transform must stay unchanged between Initialize() and the last call.
  *
  * \ingroup FFDShapeMatching
  */
@@ -171,6 +175,31 @@ public:
     }
   }
 
+  /** T(point), as the transform's TransformPoint() computes it. Thread-safe. */
+  PointType
+  TransformPoint(const PointType & point) const
+  {
+    switch (m_Method)
+    {
+      case Method::BSpline:
+        return m_Coefficients[0] != nullptr ? this->TransformPointBSpline(point) : m_Transform->TransformPoint(point);
+      case Method::Composite: {
+        PointType current = point;
+        for (const auto & child : m_Children)
+        {
+          current = child->TransformPoint(current);
+        }
+        return current;
+      }
+      case Method::Native:
+      case Method::FiniteDifference:
+        return m_Transform->TransformPoint(point);
+      case Method::None:
+      default:
+        itkGenericExceptionMacro(<< "SpatialJacobianEvaluator: Initialize() was not called");
+    }
+  }
+
   /** Writes \f$\partial T / \partial x\f$ at \c points[k] into \c jacobians[k], k = 0 .. count - 1, as Evaluate()
    * does (up to rounding). For a 3-D BSplineTransform and a row of points that share their coordinates along the
    * second and third axes of the coefficient lattice (a row of an image grid aligned with the lattice), the
@@ -214,6 +243,95 @@ private:
     {
       m_Coefficients[d] = images[d]->GetBufferPointer();
     }
+    m_CoefficientImage = images[0];
+  }
+
+  /** BSplineTransform::TransformPoint()'s arithmetic, step by step: the continuous index from the coefficient image,
+   * its valid region (identity outside), ITK's cubic kernel per axis, the weights multiplied axis by axis and the
+   * coefficients summed with the first axis fastest. */
+  PointType
+  TransformPointBSpline(const PointType & point) const
+  {
+    using ContinuousIndexType = ContinuousIndex<TParametersValueType, NDimensions>;
+    ContinuousIndexType index;
+    m_CoefficientImage->TransformPhysicalPointToContinuousIndex(point, index);
+    for (unsigned int i = 0; i < NDimensions; ++i)
+    {
+      double value = index[i];
+      if (!this->ClampToValidRegion(i, value))
+      {
+        return point;
+      }
+      index[i] = value;
+    }
+    IndexValueType start[NDimensions];
+    double         weights[NDimensions][4];
+    for (unsigned int i = 0; i < NDimensions; ++i)
+    {
+      start[i] = Math::Floor<IndexValueType>(index[i] + 0.5 - 1.5);
+      double x = index[i] - static_cast<double>(start[i]);
+      for (unsigned int k = 0; k < 4; ++k)
+      {
+        weights[i][k] = ITKCubicBSplineKernel(x);
+        x -= 1.0;
+      }
+    }
+    SizeValueType strides[NDimensions];
+    SizeValueType stride = 1;
+    for (unsigned int i = 0; i < NDimensions; ++i)
+    {
+      strides[i] = stride;
+      stride *= m_GridSize[i];
+    }
+    PointType    output;
+    unsigned int offset[NDimensions] = {};
+    output.Fill(0.0);
+    constexpr unsigned int numberOfWeights = 1u << (2 * NDimensions);
+    for (unsigned int n = 0; n < numberOfWeights; ++n)
+    {
+      SizeValueType linear = 0;
+      double        weight = 1.0;
+      for (unsigned int i = 0; i < NDimensions; ++i)
+      {
+        linear += static_cast<SizeValueType>(start[i] + offset[i]) * strides[i];
+        weight *= weights[i][offset[i]];
+      }
+      for (unsigned int d = 0; d < NDimensions; ++d)
+      {
+        output[d] += static_cast<TParametersValueType>(weight * m_Coefficients[d][linear]);
+      }
+      for (unsigned int i = 0; i < NDimensions; ++i)
+      {
+        if (++offset[i] < 4)
+        {
+          break;
+        }
+        offset[i] = 0;
+      }
+    }
+    for (unsigned int d = 0; d < NDimensions; ++d)
+    {
+      output[d] += point[d];
+    }
+    return output;
+  }
+
+  /** BSplineKernelFunction<3>::Evaluate(), written as ITK writes it (the point values must agree to the bit). */
+  static double
+  ITKCubicBSplineKernel(double u)
+  {
+    const double absValue = std::abs(u);
+    if (absValue < 1.0)
+    {
+      const double sqrValue = absValue * absValue;
+      return (4.0 - 6.0 * sqrValue + 3.0 * sqrValue * absValue) / 6.0;
+    }
+    if (absValue < 2.0)
+    {
+      const double sqrValue = absValue * absValue;
+      return (8.0 - 12.0 * absValue + 6.0 * sqrValue - sqrValue * absValue) / 6.0;
+    }
+    return 0.0;
   }
 
   void
@@ -463,7 +581,7 @@ private:
       MatrixType local;
       child->Evaluate(current, local);
       jacobian = local * jacobian;
-      current = child->m_Transform->TransformPoint(current);
+      current = child->TransformPoint(current);
     }
   }
 
@@ -493,6 +611,7 @@ private:
   PointType                                              m_GridOrigin{};
   MatrixType                                             m_PhysicalToIndex{};
   const TParametersValueType *                           m_Coefficients[NDimensions] = {};
+  const typename BSplineTransformType::ImageType *       m_CoefficientImage{ nullptr };
 };
 } // namespace detail
 } // namespace itk

@@ -26,6 +26,7 @@
 #include "itkTestingMacros.h"
 #include "itkTimeProbe.h"
 
+#include <cmath>
 #include <limits>
 
 namespace
@@ -479,6 +480,47 @@ itkApplyTransformToMeshFilterTest(int argc, char * argv[])
               << ", composite: " << maximumChainDifference << std::endl;
     ITK_TEST_EXPECT_TRUE(maximumDifference < 1e-6);
     ITK_TEST_EXPECT_TRUE(maximumChainDifference < 1e-6);
+
+    // The evaluator's T(x) is the transform's own TransformPoint(), to the bit: the B-spline, the composite and the
+    // affine, at random points inside and around the domain, on the domain's faces and at the valid region's upper
+    // end (where ITK moves the index a few ULPs inside).
+    itk::detail::SpatialJacobianEvaluator<double, 3> plain;
+    plain.Initialize(affine);
+    std::vector<itk::Point<double, 3>> probes;
+    for (unsigned int n = 0; n < 3000; ++n)
+    {
+      itk::Point<double, 3> point;
+      for (unsigned int d = 0; d < 3; ++d)
+      {
+        point[d] = random->GetUniformVariate(-10.0, 110.0);
+      }
+      probes.push_back(point);
+    }
+    for (const double face : { 0.0, 100.0, std::nextafter(100.0, 0.0), std::nextafter(100.0, 200.0), 1e-13 })
+    {
+      for (unsigned int axis = 0; axis < 3; ++axis)
+      {
+        itk::Point<double, 3> point;
+        point.Fill(37.5);
+        point[axis] = face;
+        probes.push_back(point);
+      }
+    }
+    unsigned int differing = 0;
+    unsigned int moved = 0;
+    for (const auto & point : probes)
+    {
+      differing += analytic.TransformPoint(point) != bspline->TransformPoint(point);
+      differing += chain.TransformPoint(point) != composite->TransformPoint(point);
+      differing += plain.TransformPoint(point) != affine->TransformPoint(point);
+      moved += bspline->TransformPoint(point) != point;
+    }
+    std::cout << "Evaluator's T(x) against TransformPoint(): " << differing << " of " << 3 * probes.size()
+              << " differ (" << moved << " points moved by the B-spline)" << std::endl;
+    ITK_TEST_EXPECT_EQUAL(differing, 0);
+    ITK_TEST_EXPECT_TRUE(moved > probes.size() / 2 && moved < probes.size());
+    itk::detail::SpatialJacobianEvaluator<double, 3> uninitialized;
+    ITK_TRY_EXPECT_EXCEPTION(uninitialized.TransformPoint(probes[0]));
   }
 
   // Inverse round trip with random B-spline deformations (displacements up to 0.4 x spacing), the issue's
