@@ -202,7 +202,10 @@ public:
   /** How far (mesh units) the source's voxel grid reaches beyond the target's: the source is voxelized only on the
    * part of its grid within the target's grid grown by this margin, as the voxel methods sample the source image
    * only at the deformed target samples. A sample that a deformation moves beyond it is left out of the metric
-   * (outside the moving image). A negative value (default -1) means the larger of 10 voxels and 15 % of the
+   * (outside the moving image). Within that grid, distances are computed only for the voxels within the margin
+   * plus two voxels (along each axis) of the target's band; the other voxels hold the value of a voxel far from
+   * the source (TriangleMeshToVoxelImageFilter's mask), which a sample reaches only when a deformation moves it
+   * by more than the margin. A negative value (default -1) means the larger of 10 voxels and 15 % of the
    * target grid's largest side (GetEffectiveSourceGridMargin()): on the benchmark's cases, 10 mm gives the same
    * results as the whole source grid (benchmark/PEERS_MESH.md). A very large value voxelizes the whole source. */
   itkSetMacro(SourceGridMargin, double);
@@ -405,6 +408,15 @@ private:
   /** Limits the source voxelizer's grid (set from the source's bounds) to the target's grid grown by the margin. */
   void
   CropSourceGridToTarget();
+
+  /** The source voxelizer's mask: the voxels of its grid within SourceGridMargin plus two voxels (L-infinity) of
+   * the target's band voxels; none when that is every voxel. */
+  void
+  MaskSourceGridNearTarget();
+
+  /** The margin (mesh units) of the source's grid around the target's voxelized grid. */
+  double
+  GetSourceGridMarginForTarget() const;
 
   /** Updates one of the registration methods; its failure becomes this filter's exception. */
   void

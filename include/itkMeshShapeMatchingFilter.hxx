@@ -19,12 +19,14 @@
 #define itkMeshShapeMatchingFilter_hxx
 
 #include "itkMeshShapeMatchingFilter.h"
+#include "itkImageRegionConstIteratorWithIndex.h"
 #include "itkProgressAccumulator.h"
 
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 namespace itk
@@ -370,6 +372,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::VoxelizeMeshes()
                                                : (m_Voxelization == VoxelizationEnum::Solid ? ModeEnum::Solid : ModeEnum::SignedDistance);
   typename VoxelizerType::SpacingType spacing;
   spacing.Fill(m_VoxelSize);
+  // The target first: its band decides the metric mask and where the source is voxelized.
   for (VoxelizerType * voxelizer : { m_TargetVoxelizer.GetPointer(), m_SourceVoxelizer.GetPointer() })
   {
     const bool isTarget = voxelizer == m_TargetVoxelizer.GetPointer();
@@ -383,6 +386,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::VoxelizeMeshes()
       if (!isTarget)
       {
         this->CropSourceGridToTarget();
+        this->MaskSourceGridNearTarget();
       }
       voxelizer->UpdateLargestPossibleRegion();
     }
@@ -391,24 +395,27 @@ MeshShapeMatchingFilter<TMesh, TImage>::VoxelizeMeshes()
       itkExceptionMacro(<< "cannot voxelize the " << (isTarget ? "target" : "source")
                         << " mesh: " << error.GetDescription());
     }
-  }
-
-  // The metric compares the band around the target surface, less the part near the target's open boundary: there
-  // the distance to a cut-out patch differs from the distance to the whole source surface whatever the deformation.
-  m_BandMaskVoxelizer->SetInput(target);
-  m_BandMaskVoxelizer->SetMode(ModeEnum::BandMask);
-  m_BandMaskVoxelizer->SetBandWidth(bandWidth);
-  m_BandMaskVoxelizer->SetReferenceImage(m_TargetVoxelizer->GetOutput());
-  m_OpenBoundaryMask->SetInput(m_BandMaskVoxelizer->GetOutput());
-  m_OpenBoundaryMask->SetMesh(target);
-  m_OpenBoundaryMask->SetRadius(bandWidth + 0.5 * m_VoxelSize);
-  m_OpenBoundaryMask->UpdateLargestPossibleRegion();
-  m_NumberOfMetricVoxels = m_OpenBoundaryMask->GetNumberOfMaskVoxels();
-  m_NumberOfOpenBoundaryEdges = m_OpenBoundaryMask->GetNumberOfOpenBoundaryEdges();
-  if (m_NumberOfMetricVoxels == 0)
-  {
-    itkExceptionMacro(
-      << "the target surface leaves no voxel to compare (too small for the voxel size, or all open boundary)");
+    if (isTarget)
+    {
+      // The metric compares the band around the target surface, less the part near the target's open boundary:
+      // there the distance to a cut-out patch differs from the distance to the whole source surface whatever the
+      // deformation.
+      m_BandMaskVoxelizer->SetInput(target);
+      m_BandMaskVoxelizer->SetMode(ModeEnum::BandMask);
+      m_BandMaskVoxelizer->SetBandWidth(bandWidth);
+      m_BandMaskVoxelizer->SetReferenceImage(m_TargetVoxelizer->GetOutput());
+      m_OpenBoundaryMask->SetInput(m_BandMaskVoxelizer->GetOutput());
+      m_OpenBoundaryMask->SetMesh(target);
+      m_OpenBoundaryMask->SetRadius(bandWidth + 0.5 * m_VoxelSize);
+      m_OpenBoundaryMask->UpdateLargestPossibleRegion();
+      m_NumberOfMetricVoxels = m_OpenBoundaryMask->GetNumberOfMaskVoxels();
+      m_NumberOfOpenBoundaryEdges = m_OpenBoundaryMask->GetNumberOfOpenBoundaryEdges();
+      if (m_NumberOfMetricVoxels == 0)
+      {
+        itkExceptionMacro(
+          << "the target surface leaves no voxel to compare (too small for the voxel size, or all open boundary)");
+      }
+    }
   }
 }
 
@@ -419,12 +426,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::CropSourceGridToTarget()
   // The voxels of the source's own grid (same origin lattice) that lie within the target's grid grown by the margin.
   const auto * targetImage = m_TargetVoxelizer->GetOutput();
   const auto   targetSize = targetImage->GetLargestPossibleRegion().GetSize();
-  double       largestSide = 0.0;
-  for (unsigned int d = 0; d < Dimension; ++d)
-  {
-    largestSide = std::max(largestSide, static_cast<double>(targetSize[d]) * m_VoxelSize);
-  }
-  const double margin = this->GetEffectiveSourceGridMargin(largestSide);
+  const double margin = this->GetSourceGridMarginForTarget();
   auto         origin = m_SourceVoxelizer->GetOrigin();
   auto         size = m_SourceVoxelizer->GetSize();
   for (unsigned int d = 0; d < Dimension; ++d)
@@ -440,6 +442,121 @@ MeshShapeMatchingFilter<TMesh, TImage>::CropSourceGridToTarget()
   }
   m_SourceVoxelizer->SetOrigin(origin);
   m_SourceVoxelizer->SetSize(size);
+}
+
+template <typename TMesh, typename TImage>
+double
+MeshShapeMatchingFilter<TMesh, TImage>::GetSourceGridMarginForTarget() const
+{
+  const auto targetSize = m_TargetVoxelizer->GetOutput()->GetLargestPossibleRegion().GetSize();
+  double     largestSide = 0.0;
+  for (unsigned int d = 0; d < Dimension; ++d)
+  {
+    largestSide = std::max(largestSide, static_cast<double>(targetSize[d]) * m_VoxelSize);
+  }
+  return this->GetEffectiveSourceGridMargin(largestSide);
+}
+
+template <typename TMesh, typename TImage>
+void
+MeshShapeMatchingFilter<TMesh, TImage>::MaskSourceGridNearTarget()
+{
+  // The target's band voxels, each at the nearest voxel of the source's grid (clamped into it), grown by the margin
+  // plus two voxels along each axis: a sample of the band that a deformation moves by at most the margin, with its
+  // linear interpolation's neighbours and the offset between the two lattices, stays in the mask. The growth is
+  // separable: per row (j, k) of the grid the extent along the row of the band voxels in it, then the rows within
+  // reach across (j, then k) merged, then each row's extent grown by the reach; a row holds one interval, so the
+  // mask is a superset of the band's L-infinity neighbourhood.
+  const auto * bandMask = m_BandMaskVoxelizer->GetOutput();
+  const auto   origin = m_SourceVoxelizer->GetOrigin();
+  const auto   size = m_SourceVoxelizer->GetSize();
+  const double reach = std::ceil(this->GetSourceGridMarginForTarget() / m_VoxelSize) + 2.0;
+  m_SourceVoxelizer->SetMaskImage(nullptr);
+  bool coversGrid = true;
+  for (unsigned int d = 0; d < Dimension; ++d)
+  {
+    coversGrid = coversGrid && reach >= static_cast<double>(size[d]);
+  }
+  if (coversGrid)
+  {
+    return; // Every voxel is within reach of any band voxel.
+  }
+  const auto r = static_cast<long>(reach);
+  const auto nx = static_cast<long>(size[0]);
+  const auto ny = static_cast<long>(size[1]);
+  const auto nz = static_cast<long>(size[2]);
+
+  constexpr long                                   none = std::numeric_limits<long>::max();
+  std::vector<long>                                lower(static_cast<size_t>(ny * nz), none);
+  std::vector<long>                                upper(static_cast<size_t>(ny * nz), -none);
+  ImageRegionConstIteratorWithIndex<MaskImageType> it(bandMask, bandMask->GetLargestPossibleRegion());
+  typename MaskImageType::PointType                point;
+  for (; !it.IsAtEnd(); ++it)
+  {
+    if (!it.Get())
+    {
+      continue;
+    }
+    bandMask->TransformIndexToPhysicalPoint(it.GetIndex(), point);
+    long index[3];
+    for (unsigned int d = 0; d < Dimension; ++d)
+    {
+      // Clamping moves a voxel outside the grid onto its face, which only grows what it reaches inside.
+      const double position = std::round((point[d] - origin[d]) / m_VoxelSize);
+      index[d] = static_cast<long>(std::min(std::max(position, 0.0), static_cast<double>(size[d] - 1)));
+    }
+    const size_t row = static_cast<size_t>(index[1] + ny * index[2]);
+    lower[row] = std::min(lower[row], index[0]);
+    upper[row] = std::max(upper[row], index[0]);
+  }
+  // Merge the rows within reach across, along j then along k.
+  const auto mergeAcross =
+    [r](std::vector<long> & lo, std::vector<long> & hi, long count, long stride, long lines, long lineStride) {
+      std::vector<long> lineLower(static_cast<size_t>(count));
+      std::vector<long> lineUpper(static_cast<size_t>(count));
+      for (long line = 0; line < lines; ++line)
+      {
+        const long base = line * lineStride;
+        for (long a = 0; a < count; ++a)
+        {
+          lineLower[a] = lo[base + a * stride];
+          lineUpper[a] = hi[base + a * stride];
+        }
+        for (long a = 0; a < count; ++a)
+        {
+          long low = none;
+          long high = -none;
+          for (long b = std::max(0L, a - r); b <= std::min(count - 1, a + r); ++b)
+          {
+            low = std::min(low, lineLower[b]);
+            high = std::max(high, lineUpper[b]);
+          }
+          lo[base + a * stride] = low;
+          hi[base + a * stride] = high;
+        }
+      }
+    };
+  mergeAcross(lower, upper, ny, 1, nz, ny);
+  mergeAcross(lower, upper, nz, ny, ny, 1);
+
+  auto mask = MaskImageType::New();
+  mask->SetRegions(typename MaskImageType::RegionType(size));
+  mask->SetOrigin(origin);
+  typename MaskImageType::SpacingType spacing;
+  spacing.Fill(m_VoxelSize);
+  mask->SetSpacing(spacing);
+  mask->Allocate(true);
+  unsigned char * buffer = mask->GetBufferPointer();
+  for (size_t row = 0; row < lower.size(); ++row)
+  {
+    if (lower[row] <= upper[row])
+    {
+      const long first = std::max(0L, lower[row] - r);
+      const long last = std::min(nx - 1, upper[row] + r);
+      std::fill(buffer + static_cast<long>(row) * nx + first, buffer + static_cast<long>(row) * nx + last + 1, 1);
+    }
+  }
+  m_SourceVoxelizer->SetMaskImage(mask);
 }
 
 template <typename TMesh, typename TImage>

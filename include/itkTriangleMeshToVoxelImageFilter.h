@@ -20,6 +20,7 @@
 
 #include "itkFFDShapeMatchingCompatibility.h"
 #include "itkImageSource.h"
+#include "itkImage.h"
 #include "itkImageBase.h"
 #include "itkScanLineTriangleSet.h"
 
@@ -158,13 +159,22 @@ operator<<(std::ostream & out, const TriangleMeshToVoxelImageFilterEnums::Mode v
  * multi-threaded results are bit-identical to a single update (tested on closed, holed, inverted,
  * inconsistent, self-intersecting and open meshes, with rows through edges and vertices).
  *
+ * \par Mask
+ * An optional mask image (SetMaskImage()) limits the work to the voxels where it is non-zero; the others hold the
+ * value of a voxel far from the surface: OutsideValue (Occupancy, Solid, BandMask), +BandWidth (the banded
+ * SignedDistance) or 0 (WindingNumber). The scan-line path computes each row only between its first and last
+ * masked voxel, and skips the triangles out of reach of that span; a masked voxel gets the value it has without
+ * a mask. A caller that samples the image only in part of the grid (a registration's moving image near the fixed
+ * image's samples) saves the rest.
+ *
  * \par Errors
  * Update() throws an ExceptionObject naming the problem for: no input; a mesh without points; no
  * triangle cells (or only degenerate ones); a volume cell; a cell referring to a missing point; NaN or
  * infinite coordinates; non-positive or non-finite spacing; a zero size; more voxels than
  * MaximumNumberOfVoxels (checked before any allocation); a distance or winding-number mode with an
  * integer pixel type; negative BandWidth or OccupancyDistance other than the automatic value; Beta
- * in (0, 1).
+ * in (0, 1); a mask image whose largest region, spacing, origin or direction differs from the output's; a mask
+ * with ExactDistance On.
  *
  * \par References
  * A. Jacobson, L. Kavan, O. Sorkine-Hornung, "Robust inside-outside segmentation using generalized
@@ -211,6 +221,7 @@ public:
   using PointType = typename TOutputImage::PointType;
   using DirectionType = typename TOutputImage::DirectionType;
   using ReferenceImageType = ImageBase<OutputImageDimension>;
+  using MaskImageType = Image<unsigned char, OutputImageDimension>;
   using ModeEnum = TriangleMeshToVoxelImageFilterEnums::Mode;
 
   static_assert(OutputImageDimension == 3, "TriangleMeshToVoxelImageFilter needs a 3-D output image.");
@@ -241,6 +252,13 @@ public:
    * Origin, Spacing, Size and Direction parameters are used. */
   itkSetInputMacro(ReferenceImage, ReferenceImageType);
   itkGetInputMacro(ReferenceImage, ReferenceImageType);
+
+  /** Optional input named "MaskImage": only the voxels where it is non-zero are voxelized, the others hold the
+   * value of a voxel far from the surface (see Mask above). It must have the output's largest possible region,
+   * spacing, origin and direction; its requested region is the output's. Not with ExactDistance. Default: none,
+   * every voxel is voxelized. */
+  itkSetInputMacro(MaskImage, MaskImageType);
+  itkGetInputMacro(MaskImage, MaskImageType);
 
   /** Physical position of the centre of voxel 0 when no reference image is set. Default: 0. */
   itkSetMacro(Origin, PointType);
@@ -336,6 +354,10 @@ protected:
   void
   GenerateOutputInformation() override;
 
+  /** The mask image, when set, is requested over the output's requested region. */
+  void
+  GenerateInputRequestedRegion() override;
+
   void
   BeforeThreadedGenerateData() override;
 
@@ -383,6 +405,14 @@ private:
   /** True when this update runs row by row (GenerateByScanLines()). */
   bool
   UsesScanLines() const;
+
+  /** The value of a voxel far from the surface, which the voxels outside the mask hold. */
+  OutputPixelType
+  GetFarValue() const;
+
+  /** Sets the voxels of the region outside the mask (when a mask is set) to GetFarValue(). */
+  void
+  ClearVoxelsOutsideMask(const OutputImageRegionType & region);
 
   /** True for the modes that need the inside/outside sign (Solid, signed SignedDistance). */
   bool

@@ -142,6 +142,7 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::PrintSelf(std::ostream
   os << indent << "OutsideValue: " << static_cast<typename NumericTraits<OutputPixelType>::PrintType>(m_OutsideValue)
      << std::endl;
   os << indent << "ReferenceImage: " << this->GetReferenceImage() << std::endl;
+  os << indent << "MaskImage: " << this->GetMaskImage() << std::endl;
   os << indent << "Origin: " << m_Origin << std::endl;
   os << indent << "Spacing: " << m_Spacing << std::endl;
   os << indent << "Size: " << m_Size << std::endl;
@@ -247,6 +248,11 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::VerifyPreconditions() 
   {
     itkExceptionMacro("Beta must be 0 (exact) or >= 1, not " << m_Beta << '.');
   }
+  if (this->GetMaskImage() != nullptr && m_Mode == ModeEnum::SignedDistance && m_ExactDistance)
+  {
+    itkExceptionMacro("A mask image needs the banded distance: the voxels outside it hold +BandWidth, which "
+                      "ExactDistance On does not clamp to.");
+  }
 }
 
 template <typename TInputMesh, typename TOutputImage>
@@ -275,9 +281,87 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::GenerateOutputInformat
   m_EffectiveOccupancyDistance = m_OccupancyDistance < 0.0 ? 0.5 * std::sqrt(diagonalSquared) : m_OccupancyDistance;
   m_EffectiveBandWidth = m_BandWidth < 0.0 ? 3.0 * largestSpacing : m_BandWidth;
 
+  if (const MaskImageType * mask = this->GetMaskImage())
+  {
+    // The tolerance of ImageToImageFilter's input check: a millionth of a voxel.
+    const double tolerance = 1e-6 * largestSpacing;
+    bool         same = mask->GetLargestPossibleRegion() == region;
+    for (unsigned int r = 0; r < OutputImageDimension && same; ++r)
+    {
+      same = std::abs(mask->GetOrigin()[r] - origin[r]) <= tolerance &&
+             std::abs(mask->GetSpacing()[r] - spacing[r]) <= tolerance;
+      for (unsigned int c = 0; c < OutputImageDimension && same; ++c)
+      {
+        same = std::abs(mask->GetDirection()[r][c] - direction[r][c]) <= 1e-6;
+      }
+    }
+    if (!same)
+    {
+      itkExceptionMacro("The mask image's grid (region "
+                        << mask->GetLargestPossibleRegion() << ", origin " << mask->GetOrigin() << ", spacing "
+                        << mask->GetSpacing() << ") is not the output's (region " << region << ", origin " << origin
+                        << ", spacing " << spacing << ").");
+    }
+  }
+
   // Called once per pipeline update, not once per streamed piece: the hierarchy is rebuilt on the
   // next BeforeThreadedGenerateData() only when the mesh or the parameters changed.
   m_HierarchyIsCurrent = false;
+}
+
+template <typename TInputMesh, typename TOutputImage>
+void
+TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::GenerateInputRequestedRegion()
+{
+  Superclass::GenerateInputRequestedRegion();
+  if (const MaskImageType * mask = this->GetMaskImage())
+  {
+    // The pipeline holds its inputs as non-const data objects; only the requested region is changed.
+    const_cast<MaskImageType *>(mask)->SetRequestedRegion(this->GetOutput()->GetRequestedRegion());
+  }
+}
+
+template <typename TInputMesh, typename TOutputImage>
+auto
+TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::GetFarValue() const -> OutputPixelType
+{
+  switch (m_Mode)
+  {
+    case ModeEnum::SignedDistance:
+      return static_cast<OutputPixelType>(m_EffectiveBandWidth);
+    case ModeEnum::WindingNumber:
+      return NumericTraits<OutputPixelType>::ZeroValue();
+    default:
+      return m_OutsideValue;
+  }
+}
+
+template <typename TInputMesh, typename TOutputImage>
+void
+TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::ClearVoxelsOutsideMask(const OutputImageRegionType & region)
+{
+  const MaskImageType * mask = this->GetMaskImage();
+  if (mask == nullptr)
+  {
+    return;
+  }
+  const OutputPixelType                     farValue = this->GetFarValue();
+  ImageScanlineIterator<OutputImageType>    it(this->GetOutput(), region);
+  ImageScanlineConstIterator<MaskImageType> maskIt(mask, region);
+  while (!it.IsAtEnd())
+  {
+    while (!it.IsAtEndOfLine())
+    {
+      if (!maskIt.Get())
+      {
+        it.Set(farValue);
+      }
+      ++it;
+      ++maskIt;
+    }
+    it.NextLine();
+    maskIt.NextLine();
+  }
 }
 
 template <typename TInputMesh, typename TOutputImage>
@@ -502,6 +586,7 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::DynamicThreadedGenerat
   if (this->UsesScanLines() && this->ModeIsReachOnly())
   {
     this->GenerateReachByTriangles(outputRegionForThread);
+    this->ClearVoxelsOutsideMask(outputRegionForThread);
   }
   else if (this->UsesScanLines())
   {
@@ -715,6 +800,8 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::GenerateByScanLines(co
   std::vector<detail::TriangleBoundingVolumeHierarchy::VectorType> points(count);
   const double                           radius = m_Mode == ModeEnum::Occupancy ? m_EffectiveOccupancyDistance : band;
   const double                           radiusSquared = radius * radius;
+  const MaskImageType *                  mask = this->GetMaskImage();
+  const OutputPixelType                  farValue = this->GetFarValue();
   PointType                              point;
   ImageScanlineIterator<OutputImageType> it(output, region);
   while (!it.IsAtEnd())
@@ -722,26 +809,52 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::GenerateByScanLines(co
     auto       index = detail::IteratorIndex(it);
     const long j = index[1];
     const long k = index[2];
-    for (size_t i = 0; i < count; ++i)
+    // The row is computed between its first and last masked voxel (the whole row without a mask).
+    const unsigned char * maskRow = mask != nullptr ? mask->GetBufferPointer() + mask->ComputeOffset(index) : nullptr;
+    size_t                spanFirst = 0;
+    size_t                spanEnd = count;
+    if (maskRow != nullptr)
     {
-      index[0] = first + static_cast<long>(i);
+      while (spanFirst < count && !maskRow[spanFirst])
+      {
+        ++spanFirst;
+      }
+      while (spanEnd > spanFirst && !maskRow[spanEnd - 1])
+      {
+        --spanEnd;
+      }
+    }
+    const size_t span = spanEnd - spanFirst;
+    inside.resize(span);
+    squaredDistances.resize(span);
+    points.resize(span);
+    const long spanStart = first + static_cast<long>(spanFirst);
+    for (size_t i = 0; i < span; ++i)
+    {
+      index[0] = spanStart + static_cast<long>(i);
       output->TransformIndexToPhysicalPoint(index, point);
       points[i] =
         VectorType{ static_cast<double>(point[0]), static_cast<double>(point[1]), static_cast<double>(point[2]) };
     }
-    if (needSign)
+    if (needSign && span > 0)
     {
       m_TriangleSet.ComputeRowInside(
-        first, j, k, points, output->GetSpacing()[0], m_Beta, m_AbsoluteWindingNumber, inside);
+        spanStart, j, k, points, output->GetSpacing()[0], m_Beta, m_AbsoluteWindingNumber, inside);
     }
-    if (needReach)
+    if (needReach && span > 0)
     {
       m_TriangleSet.ComputeRowSquaredDistances(
-        first, j, k, spacing, radius, m_Mode != ModeEnum::SignedDistance, points, squaredDistances);
+        spanStart, j, k, spacing, radius, m_Mode != ModeEnum::SignedDistance, points, squaredDistances);
     }
     double previousDistance = -1.0;
-    for (size_t i = 0; i < count; ++i, ++it)
+    for (size_t voxel = 0; voxel < count; ++voxel, ++it)
     {
+      if (maskRow != nullptr && !maskRow[voxel])
+      {
+        it.Set(farValue);
+        continue;
+      }
+      const size_t i = voxel - spanFirst;
       switch (m_Mode)
       {
         case ModeEnum::Occupancy:
@@ -802,10 +915,18 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::GeneratePerVoxel(
   const double bandSquared = band * band;
   const double beta = m_Beta;
 
+  const MaskImageType *                         mask = this->GetMaskImage();
+  const OutputPixelType                         farValue = this->GetFarValue();
   ImageRegionIteratorWithIndex<OutputImageType> it(output, outputRegionForThread);
   PointType                                     point;
   for (; !it.IsAtEnd(); ++it)
   {
+    if (mask != nullptr && !mask->GetPixel(it.GetIndex()))
+    {
+      it.Set(farValue);
+      progress.CompletedPixel();
+      continue;
+    }
     output->TransformIndexToPhysicalPoint(it.GetIndex(), point);
     const VectorType q{ static_cast<double>(point[0]), static_cast<double>(point[1]), static_cast<double>(point[2]) };
     switch (m_Mode)

@@ -187,10 +187,19 @@ ScanLineTriangleSet::ComputeRowSquaredDistances(long                            
   };
   std::vector<Candidate>     candidates;
   std::vector<std::uint64_t> keys;
+  // A triangle whose extent along the row, grown by the radius, misses the voxels asked for (a row's masked
+  // span) is skipped before any other work; the slack of one voxel covers the rounding of the bounds below.
+  const double reachAlong = std::sqrt(limit) / spacing[0];
+  const double firstIndex = static_cast<double>(first) - 1.0;
+  const double lastIndex = static_cast<double>(first + count);
   for (const std::uint32_t * it = m_ReachBins.Begin(j, k); it != m_ReachBins.End(j, k); ++it)
   {
     const IndexSpaceTriangle & t = m_IndexTriangles[*it];
-    const double               gapY =
+    if (t.upper[0] + reachAlong < firstIndex || t.lower[0] - reachAlong > lastIndex)
+    {
+      continue;
+    }
+    const double gapY =
       spacing[1] * std::max({ t.lower[1] - static_cast<double>(j), static_cast<double>(j) - t.upper[1], 0.0 });
     const double gapZ =
       spacing[2] * std::max({ t.lower[2] - static_cast<double>(k), static_cast<double>(k) - t.upper[2], 0.0 });

@@ -27,6 +27,7 @@
 #include <cmath>
 #include <iostream>
 #include <map>
+#include <vector>
 
 namespace
 {
@@ -221,7 +222,9 @@ itkMeshShapeMatchingFilterTest(int, char *[])
 
   // The source's grid: by default the target's grid grown by the larger of 10 voxels and 15 % of its largest side;
   // with a 2 mm margin, only the source's voxels within 2 mm of the target's grid (plus the rounding to whole
-  // voxels), with the values of the whole grid; a margin wider than the source gives the whole grid.
+  // voxels). Within it, the voxels within the margin plus two voxels (L-infinity) of the target's band voxels are
+  // in the source voxelizer's mask (checked against every band voxel's box) and hold the values of the whole grid,
+  // the others hold the band's far value; a margin wider than the source gives the whole grid, without a mask.
   ITK_TEST_EXPECT_EQUAL(filter->GetSourceGridMargin(), -1.0);
   ITK_TEST_EXPECT_EQUAL(filter->GetEffectiveSourceGridMargin(40.0), 15.0);
   ITK_TEST_EXPECT_EQUAL(filter->GetEffectiveSourceGridMargin(200.0), 30.0);
@@ -256,24 +259,66 @@ itkMeshShapeMatchingFilterTest(int, char *[])
       croppedImage->GetLargestPossibleRegion().GetSize()[d] < wholeImage->GetLargestPossibleRegion().GetSize()[d];
   }
   ITK_TEST_EXPECT_TRUE(croppedAxes > 0);
-  size_t differences = 0;
-  for (itk::ImageRegionConstIteratorWithIndex<ImageType> it(croppedImage, croppedImage->GetLargestPossibleRegion());
+  // Every cropped voxel within reach of a band voxel, marked box by box around each band voxel.
+  const auto * sourceMask = filter->GetModifiableSourceVoxelizer()->GetMaskImage();
+  ITK_TEST_EXPECT_TRUE(sourceMask != nullptr);
+  const auto *      bandMask = filter->GetModifiableBandMaskVoxelizer()->GetOutput();
+  const auto        croppedRegion = croppedImage->GetLargestPossibleRegion();
+  const long        reach = static_cast<long>(std::ceil(2.0 / filter->GetVoxelSize())) + 2;
+  std::vector<char> nearBand(croppedRegion.GetNumberOfPixels(), 0);
+  for (itk::ImageRegionConstIteratorWithIndex<FilterType::MaskImageType> it(bandMask,
+                                                                            bandMask->GetLargestPossibleRegion());
        !it.IsAtEnd();
        ++it)
+  {
+    if (!it.Get())
+    {
+      continue;
+    }
+    ImageType::PointType point;
+    bandMask->TransformIndexToPhysicalPoint(it.GetIndex(), point);
+    const auto           nearest = croppedImage->TransformPhysicalPointToContinuousIndex<double>(point);
+    ImageType::IndexType index;
+    for (index[2] = std::lround(nearest[2]) - reach; index[2] <= std::lround(nearest[2]) + reach; ++index[2])
+    {
+      for (index[1] = std::lround(nearest[1]) - reach; index[1] <= std::lround(nearest[1]) + reach; ++index[1])
+      {
+        for (index[0] = std::lround(nearest[0]) - reach; index[0] <= std::lround(nearest[0]) + reach; ++index[0])
+        {
+          if (croppedRegion.IsInside(index))
+          {
+            nearBand[croppedImage->ComputeOffset(index)] = 1;
+          }
+        }
+      }
+    }
+  }
+  size_t differences = 0;
+  size_t missing = 0;
+  size_t masked = 0;
+  for (itk::ImageRegionConstIteratorWithIndex<ImageType> it(croppedImage, croppedRegion); !it.IsAtEnd(); ++it)
   {
     ImageType::PointType point;
     croppedImage->TransformIndexToPhysicalPoint(it.GetIndex(), point);
     ImageType::IndexType index;
     const bool           inside = wholeImage->TransformPhysicalPointToIndex(point, index);
-    differences += !inside || wholeImage->GetPixel(index) != it.Get();
+    const bool           inMask = sourceMask->GetPixel(it.GetIndex()) != 0;
+    masked += inMask;
+    missing += nearBand[croppedImage->ComputeOffset(it.GetIndex())] && !inMask;
+    const float expected = inMask ? wholeImage->GetPixel(index) : static_cast<float>(filter->GetBandWidth());
+    differences += !inside || expected != it.Get();
   }
-  std::cout << "source grid " << croppedImage->GetLargestPossibleRegion().GetSize() << " of "
-            << wholeImage->GetLargestPossibleRegion().GetSize() << ", " << differences << " voxels differ" << std::endl;
+  std::cout << "source grid " << croppedRegion.GetSize() << " of " << wholeImage->GetLargestPossibleRegion().GetSize()
+            << ", " << masked << " voxels in the mask, " << missing << " within reach of the band left out, "
+            << differences << " voxels differ" << std::endl;
   ITK_TEST_EXPECT_EQUAL(differences, 0);
+  ITK_TEST_EXPECT_EQUAL(missing, 0);
+  ITK_TEST_EXPECT_TRUE(masked < croppedRegion.GetNumberOfPixels());
   filter->SetSourceGridMargin(1000.0);
   ITK_TRY_EXPECT_NO_EXCEPTION(filter->Update());
   ITK_TEST_EXPECT_EQUAL(filter->GetModifiableSourceVoxelizer()->GetOutput()->GetLargestPossibleRegion(),
                         wholeImage->GetLargestPossibleRegion());
+  ITK_TEST_EXPECT_TRUE(filter->GetModifiableSourceVoxelizer()->GetMaskImage() == nullptr);
   std::cout << "Test finished." << std::endl;
   return EXIT_SUCCESS;
 }

@@ -222,6 +222,40 @@ itkTriangleMeshToVoxelImageFilterExceptionsTest(int argc, char * argv[])
   parameters->SetBeta(2.0);
   ITK_TRY_EXPECT_NO_EXCEPTION(parameters->Update());
 
+  // A mask image on another grid than the output's, and a mask with the exact (unclamped) distance.
+  const auto makeMask = [](const FilterType::SizeType & maskSize, double maskOrigin) {
+    auto                    mask = MaskImageType::New();
+    FilterType::PointType   maskOriginPoint;
+    FilterType::SpacingType maskSpacing;
+    maskOriginPoint.Fill(maskOrigin);
+    maskSpacing.Fill(1.0);
+    mask->SetRegions(MaskImageType::RegionType(maskSize));
+    mask->SetOrigin(maskOriginPoint);
+    mask->SetSpacing(maskSpacing);
+    mask->Allocate(true);
+    return mask;
+  };
+  FilterType::SizeType smaller = { { 8, 7, 8 } };
+  FilterType::SizeType same = { { 8, 8, 8 } };
+  auto                 masked = MakeFilter(sphere);
+  masked->SetMaskImage(makeMask(smaller, -4.0));
+  check(FailsWith(masked, "mask image's grid"));
+  masked->SetMaskImage(makeMask(same, -3.5));
+  check(FailsWith(masked, "mask image's grid"));
+  masked->SetMaskImage(makeMask(same, -4.0));
+  ITK_TRY_EXPECT_NO_EXCEPTION(masked->Update());
+  using RealFilterType = itk::TriangleMeshToVoxelImageFilter<MeshType, itk::Image<float, 3>>;
+  auto exactMasked = RealFilterType::New();
+  exactMasked->SetInput(sphere);
+  exactMasked->SetSize(same);
+  exactMasked->SetOrigin(masked->GetOrigin());
+  exactMasked->SetMode(ModeEnum::SignedDistance);
+  exactMasked->ExactDistanceOn();
+  exactMasked->SetMaskImage(makeMask(same, -4.0));
+  ITK_TRY_EXPECT_EXCEPTION(exactMasked->Update());
+  exactMasked->ExactDistanceOff();
+  ITK_TRY_EXPECT_NO_EXCEPTION(exactMasked->Update());
+
   // Geometry from bounds: null mesh and negative margin.
   ITK_TRY_EXPECT_EXCEPTION(FilterType::New()->SetGeometryFromMeshBounds(spacing, 1.0));
   ITK_TRY_EXPECT_EXCEPTION(parameters->SetGeometryFromMeshBounds(spacing, -1.0));
