@@ -147,6 +147,14 @@ public:
   itkGetConstMacro(UseMovingImageGradientFilter, bool);
   itkBooleanMacro(UseMovingImageGradientFilter);
 
+  /** How the coarse levels' fixed and moving images are smoothed (sigma half the level's shrink factor, in voxels).
+   * Off (default, ITK's): SmoothingRecursiveGaussianImageFilter. On: TruncatedGaussianImageFilter, a sampled Gaussian
+   * truncated at three sigmas (TruncatedGaussianImageRegistrationMethodv4), about a quarter of the recursive filter's
+   * time at these sigmas. Method GOCPD of MeshShapeMatchingFilter turns it On (benchmark/PEERS_MESH.md). */
+  itkSetMacro(UseTruncatedGaussianSmoothing, bool);
+  itkGetConstMacro(UseTruncatedGaussianSmoothing, bool);
+  itkBooleanMacro(UseTruncatedGaussianSmoothing);
+
   // MaximumRunTime and TimeLimitReached: see the superclass. When the limit is reached the optimizer stops at the
   // current iteration, keeping the best parameters so far, and any remaining level makes one iteration (so the
   // output has the final control grid).
@@ -200,6 +208,7 @@ private:
   double          m_FoldingPenaltyWeight{ 0.0 };
   bool            m_UseAffineStage{ false };
   bool            m_UseMovingImageGradientFilter{ true };
+  bool            m_UseTruncatedGaussianSmoothing{ false };
 
   std::vector<double> m_MetricValues{};
   std::string         m_StopConditionDescription{};

@@ -28,6 +28,7 @@
 #include "itkCompositeTransform.h"
 #include "itkImageMaskSpatialObject.h"
 #include "itkImageRegistrationMethodv4.h"
+#include "itkTruncatedGaussianImageRegistrationMethodv4.h"
 #include "itkLBFGSBOptimizerv4.h"
 #include "itkBSplineSparseImageToImageMetricv4.h"
 #include "itkMattesMutualInformationImageToImageMetricv4.h"
@@ -211,7 +212,8 @@ auto
 BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunBSplineStage(
   const TransformType * movingInitialTransform) -> typename BSplineTransformType::Pointer
 {
-  using RegistrationType = ImageRegistrationMethodv4<FixedImageType, MovingImageType, BSplineTransformType>;
+  using RegistrationType =
+    TruncatedGaussianImageRegistrationMethodv4<FixedImageType, MovingImageType, BSplineTransformType>;
   // The B-spline-sparse metric gives ITK's Mattes MI and mean squares values and derivatives, at a cost
   // per sample independent of the number of control points.
   using RegularizedMetricType =
@@ -259,6 +261,7 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunBSplineStage(
   registration->SetInitialTransform(transform);
   registration->InPlaceOn();
   registration->SetMetric(metric);
+  registration->SetUseTruncatedGaussian(m_UseTruncatedGaussianSmoothing);
 
   // Resolution schedule and control-grid refinement.
   const unsigned int                                                  levels = m_NumberOfLevels;
@@ -407,6 +410,7 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::PrintSelf(std::ost
   os << indent << "FoldingPenaltyWeight: " << m_FoldingPenaltyWeight << std::endl;
   os << indent << "UseAffineStage: " << (m_UseAffineStage ? "On" : "Off") << std::endl;
   os << indent << "UseMovingImageGradientFilter: " << (m_UseMovingImageGradientFilter ? "On" : "Off") << std::endl;
+  os << indent << "UseTruncatedGaussianSmoothing: " << (m_UseTruncatedGaussianSmoothing ? "On" : "Off") << std::endl;
   os << indent << "MetricValues: " << m_MetricValues.size() << " iterations" << std::endl;
   os << indent << "StopConditionDescription: " << m_StopConditionDescription << std::endl;
 }

@@ -599,6 +599,8 @@ MeshShapeMatchingFilter<TMesh, TImage>::RegisterVoxels(MethodEnum method, double
     // point-drift stage does the fine matching, the samples' central differences are as accurate and skip the
     // filter's passes over the whole source image (benchmark/PEERS_MESH.md).
     registration->SetUseMovingImageGradientFilter(m_Method != MethodEnum::GOCPD);
+    // Likewise the coarse level's smoothing: the truncated Gaussian for GOCPD, ITK's recursive one for GO alone.
+    registration->SetUseTruncatedGaussianSmoothing(m_Method == MethodEnum::GOCPD);
     registration->SetMaximumRunTime(timeLimit);
     this->UpdateRegistration(registration);
     m_MetricValues = registration->GetMetricValues();

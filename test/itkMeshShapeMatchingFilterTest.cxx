@@ -213,6 +213,9 @@ itkMeshShapeMatchingFilterTest(int, char *[])
     {
       ITK_TEST_EXPECT_EQUAL(filter->GetModifiableGORegistration()->GetUseMovingImageGradientFilter(),
                             method == MethodEnum::GO);
+      // Likewise the coarse level's smoothing: ITK's recursive Gaussian for GO, the truncated Gaussian for GOCPD.
+      ITK_TEST_EXPECT_EQUAL(filter->GetModifiableGORegistration()->GetUseTruncatedGaussianSmoothing(),
+                            method == MethodEnum::GOCPD);
     }
     std::cout << progressEvents << " progress events, the last at " << lastProgress << std::endl;
     ITK_TEST_EXPECT_TRUE(progressEvents > 10);
