@@ -74,7 +74,9 @@ protected:
   {
     using CategoryEnum = ObjectToObjectMetricBaseTemplateEnums::MetricCategory;
     const double sigma = this->m_SmoothingSigmasPerLevel[level];
-    if (!m_UseTruncatedGaussian || !(sigma > 0.0) || this->m_Metric->GetMetricCategory() != CategoryEnum::IMAGE_METRIC)
+    // Without a metric the superclass throws its own exception.
+    if (!m_UseTruncatedGaussian || !(sigma > 0.0) || this->m_Metric.IsNull() ||
+        this->m_Metric->GetMetricCategory() != CategoryEnum::IMAGE_METRIC)
     {
       Superclass::InitializeRegistrationAtEachLevel(level);
       return;
