@@ -101,13 +101,32 @@ def install_packages():
                    env=environment)
 
 
-def build_project(build_dir, install):
+def build_project(build_dir, install, portable):
+    """Release build of the programs, for this machine's processor unless portable (the timings' configuration,
+    recorded in RESULTS.md by build_configuration)."""
     if install:
         subprocess.run(["bash", os.path.join(ROOT, "Utilities", "InstallDependencies.sh")], check=True)
-    subprocess.run(["cmake", "-S", ROOT, "-B", build_dir, "-DCMAKE_BUILD_TYPE=Release"], check=True)
+    subprocess.run(["cmake", "-S", ROOT, "-B", build_dir, "-DCMAKE_BUILD_TYPE=Release",
+                    "-DFFDShapeMatching_OPTIMIZE_FOR_BUILD_MACHINE=" + ("OFF" if portable else "ON")], check=True)
     jobs = str(os.cpu_count() or 2)
     subprocess.run(["cmake", "--build", build_dir, "-j" + jobs, "--target", "ffd-match", "ffd-voxelize",
                     "ffd-benchmark-tool"], check=True)
+
+
+def build_configuration(build_dir):
+    """The build type and instruction set of the build in build_dir, from its CMake cache (None without one)."""
+    values = {}
+    try:
+        with open(os.path.join(build_dir, "CMakeCache.txt")) as cache:
+            for line in cache:
+                match = re.match(r"(CMAKE_BUILD_TYPE|FFDShapeMatching_OPTIMIZE_FOR_BUILD_MACHINE):\w+=(.*)", line)
+                if match:
+                    values[match.group(1)] = match.group(2).strip()
+    except OSError:
+        return None
+    native = values.get("FFDShapeMatching_OPTIMIZE_FOR_BUILD_MACHINE", "OFF").upper() in ("ON", "1", "TRUE", "YES")
+    return "%s, %s" % (values.get("CMAKE_BUILD_TYPE") or "no build type",
+                       "-march=native (FFDShapeMatching_OPTIMIZE_FOR_BUILD_MACHINE)" if native else "portable")
 
 
 def extract_meshes(names, folder):
@@ -1343,6 +1362,9 @@ def parse_arguments():
     parser.add_argument("--build-dir", default=os.environ.get("FFD_BUILD_DIR", os.path.join(ROOT, "build")))
     parser.add_argument("--skip-install", action="store_true", help="do not install missing Debian packages")
     parser.add_argument("--skip-build", action="store_true", help="use the programs already in --build-dir")
+    parser.add_argument("--portable-build", action="store_true",
+                        help="build without -march=native (default: for this machine's processor, "
+                             "FFDShapeMatching_OPTIMIZE_FOR_BUILD_MACHINE=ON)")
     parser.add_argument("--ffd-match", help="path of ffd-match (default: BUILD/apps/ffd-match)")
     parser.add_argument("--ffd-voxelize", help="path of ffd-voxelize (default: BUILD/apps/ffd-voxelize)")
     parser.add_argument("--ffd-benchmark-tool", help="default: BUILD/benchmark/ffd-benchmark-tool")
@@ -1460,7 +1482,7 @@ def main():
     if not options.skip_install:
         install_packages()
     if not options.skip_build:
-        build_project(build_dir, not options.skip_install)
+        build_project(build_dir, not options.skip_install, options.portable_build)
     tools = {
         "ffd-match": options.ffd_match or os.path.join(build_dir, "apps", "ffd-match"),
         "ffd-voxelize": options.ffd_voxelize or os.path.join(build_dir, "apps", "ffd-voxelize"),
@@ -1484,6 +1506,7 @@ def main():
         if "bcpd" in options.peers and os.environ.get("BCPD_EXE") and shutil.which(os.environ["BCPD_EXE"]) else None,
         "FFDShapeMatching": subprocess.run(["git", "-C", ROOT, "describe", "--always", "--dirty"], capture_output=True,
                                            text=True).stdout.strip() or None,
+        "FFDShapeMatching build": build_configuration(build_dir),
     }
     meshes = extract_meshes(options.meshes, os.path.join(work, "meshes"))
     records = []

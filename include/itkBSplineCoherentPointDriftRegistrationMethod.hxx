@@ -308,7 +308,6 @@ void
 BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateData()
 {
   using ClockType = std::chrono::steady_clock;
-  using SparseMatrix = Eigen::SparseMatrix<double>;
   using RowMajorCoefficients = Eigen::Matrix<double, Eigen::Dynamic, Dimension, Eigen::RowMajor>;
   const auto start = ClockType::now();
   m_TimeLimitReached = false;
@@ -469,15 +468,12 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   // Target samples per unit area (the uniform outlier term is measured against it).
   const double density = static_cast<double>(numberOfFixed) / area;
 
-  // The M-step's matrix B^T diag(P1) B + s (R + 1e-3 I), applied without being formed.
-  SparseMatrix identity(static_cast<Eigen::Index>(numberOfCoefficients),
-                        static_cast<Eigen::Index>(numberOfCoefficients));
-  identity.setIdentity();
+  // The M-step's matrix B^T diag(P1) B + s (R + 1e-3 I), applied without being formed (R by its one-axis factors).
   detail::BSplineSampleNormalOperator normalOperator(
     { gridSize[0], gridSize[1], gridSize[2] },
     std::move(firsts), // the operator keeps the supports: it also applies B (the samples' weights) and B^T
     std::move(weights),
-    detail::BSplineLatticeBendingMatrix({ gridSize[0], gridSize[1], gridSize[2] }) + 1e-3 * identity);
+    1e-3);
   // The preconditioner: Jacobi's, plus a coarse-lattice correction for the smooth errors that Jacobi damps slowly.
   std::unique_ptr<detail::BSplineLatticeCoarseCorrection> coarseCorrection;
   if (m_NumberOfCoarseControlPointsPerAxis >= 2)

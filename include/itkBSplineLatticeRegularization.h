@@ -90,6 +90,7 @@ BSplineLatticeBendingMatrix(const std::array<size_t, 3> & size)
   stencils.setFromTriplets(rows.begin(), rows.end());
   return Eigen::SparseMatrix<double>(stencils.transpose() * stencils);
 }
+
 } // namespace detail
 } // namespace itk
 

