@@ -184,6 +184,19 @@ private:
   std::array<double, 3>           m_ReachMargin{ { 0.0, 0.0, 0.0 } };
   std::vector<std::uint32_t>      m_RegionTriangles{}; // Reaching the requested region (occupancy, band).
   int                             m_OrientationSign{ 1 };
+  /** Per triangle, for ComputeRowSquaredDistances() at the spacing of the last Prepare(): its first corner in the
+   * grid's frame scaled to physical units, and its plane's unit normal there (zero for a degenerate triangle). */
+  struct ScaledPlane
+  {
+    std::array<double, 3> corner;
+    std::array<double, 3> normal;
+  };
+  std::vector<ScaledPlane> m_ScaledPlanes{};
+  std::array<double, 3>    m_ScaledPlaneSpacing{ { 0.0, 0.0, 0.0 } };
+
+  /** The scaled plane of an index-space triangle for the given spacing. */
+  static ScaledPlane
+  MakeScaledPlane(const IndexSpaceTriangle & t, const double spacing[3]);
 };
 } // namespace detail
 } // namespace itk

@@ -23,7 +23,10 @@
 #include "itkNumericTraits.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <memory>
+#include <type_traits>
 
 namespace itk
 {
@@ -121,90 +124,120 @@ TruncatedGaussianImageFilter<TImage>::GenerateData()
   const long stride[3] = { 1, size[0], size[0] * size[1] };
   const auto count = static_cast<size_t>(size[0] * size[1] * size[2]);
 
-  std::vector<RealType> current(input->GetBufferPointer(), input->GetBufferPointer() + count);
-  std::vector<RealType> next(count);
-  MultiThreaderBase *   threader = this->GetMultiThreader();
+  MultiThreaderBase * threader = this->GetMultiThreader();
   threader->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
 
+  // The passes along the axes whose kernel is wider than one voxel, from the input to the output. Where the pixels
+  // are their own real type (float, double) the passes run between the output's buffer and one scratch buffer,
+  // arranged so that the last pass writes the output; otherwise between two real buffers, cast at the end.
+  std::vector<unsigned int>            axes;
+  std::array<std::vector<RealType>, 3> kernels;
   for (unsigned int axis = 0; axis < 3; ++axis)
   {
     const std::vector<double> kernel = this->ComputeKernel(axis);
-    std::vector<RealType>     weights(kernel.begin(), kernel.end());
-    const long                radius = static_cast<long>(weights.size() / 2);
-    const long                n = size[axis];
-    if (radius > 0)
+    kernels[axis].assign(kernel.begin(), kernel.end());
+    if (kernel.size() > 1)
     {
-      const RealType * from = current.data();
-      RealType *       to = next.data();
-      if (axis == 0)
-      {
-        // Along the rows: each row padded by its edge voxels, then a dot product per voxel.
-        threader->ParallelizeArray(
-          0,
-          static_cast<SizeValueType>(size[1] * size[2]),
-          [&](SizeValueType row) {
-            std::vector<RealType> padded(static_cast<size_t>(n + 2 * radius));
-            const RealType *      line = from + static_cast<long>(row) * n;
-            for (long i = -radius; i < n + radius; ++i)
-            {
-              padded[static_cast<size_t>(i + radius)] = line[std::min(std::max(i, 0L), n - 1)];
-            }
-            RealType * out = to + static_cast<long>(row) * n;
-            for (long i = 0; i < n; ++i)
-            {
-              RealType sum = 0;
-              for (long k = 0; k <= 2 * radius; ++k)
-              {
-                sum += weights[static_cast<size_t>(k)] * padded[static_cast<size_t>(i + k)];
-              }
-              out[i] = sum;
-            }
-          },
-          nullptr);
-      }
-      else
-      {
-        // Across the rows: whole rows weighted and added, the first axis innermost (contiguous).
-        const long other = axis == 1 ? 2 : 1;
-        threader->ParallelizeArray(
-          0,
-          static_cast<SizeValueType>(size[other]),
-          [&](SizeValueType outer) {
-            for (long i = 0; i < n; ++i)
-            {
-              RealType * out = to + static_cast<long>(outer) * stride[other] + i * stride[axis];
-              for (long k = -radius; k <= radius; ++k)
-              {
-                const long       source = std::min(std::max(i + k, 0L), n - 1);
-                const RealType * in = from + static_cast<long>(outer) * stride[other] + source * stride[axis];
-                const RealType   weight = weights[static_cast<size_t>(k + radius)];
-                if (k == -radius)
-                {
-                  for (long x = 0; x < size[0]; ++x)
-                  {
-                    out[x] = weight * in[x];
-                  }
-                }
-                else
-                {
-                  for (long x = 0; x < size[0]; ++x)
-                  {
-                    out[x] += weight * in[x];
-                  }
-                }
-              }
-            }
-          },
-          nullptr);
-      }
-      current.swap(next);
+      axes.push_back(axis);
     }
-    this->UpdateProgress(static_cast<float>(axis + 1) / 3.0f);
   }
-  PixelType * out = output->GetBufferPointer();
-  for (size_t i = 0; i < count; ++i)
+  const auto pass = [&](unsigned int axis, const RealType * from, RealType * to) {
+    const std::vector<RealType> & weights = kernels[axis];
+    const long                    radius = static_cast<long>(weights.size() / 2);
+    const long                    n = size[axis];
+    if (axis == 0)
+    {
+      // Along the rows: each row padded by its edge voxels, then a dot product per voxel.
+      threader->ParallelizeArray(
+        0,
+        static_cast<SizeValueType>(size[1] * size[2]),
+        [&](SizeValueType row) {
+          std::vector<RealType> padded(static_cast<size_t>(n + 2 * radius));
+          const RealType *      line = from + static_cast<long>(row) * n;
+          for (long i = -radius; i < n + radius; ++i)
+          {
+            padded[static_cast<size_t>(i + radius)] = line[std::min(std::max(i, 0L), n - 1)];
+          }
+          RealType * out = to + static_cast<long>(row) * n;
+          for (long i = 0; i < n; ++i)
+          {
+            RealType sum = 0;
+            for (long k = 0; k <= 2 * radius; ++k)
+            {
+              sum += weights[static_cast<size_t>(k)] * padded[static_cast<size_t>(i + k)];
+            }
+            out[i] = sum;
+          }
+        },
+        nullptr);
+      return;
+    }
+    // Across the rows: whole rows weighted and added, the first axis innermost (contiguous).
+    const long other = axis == 1 ? 2 : 1;
+    threader->ParallelizeArray(
+      0,
+      static_cast<SizeValueType>(size[other]),
+      [&](SizeValueType outer) {
+        for (long i = 0; i < n; ++i)
+        {
+          RealType * out = to + static_cast<long>(outer) * stride[other] + i * stride[axis];
+          for (long k = -radius; k <= radius; ++k)
+          {
+            const long       source = std::min(std::max(i + k, 0L), n - 1);
+            const RealType * in = from + static_cast<long>(outer) * stride[other] + source * stride[axis];
+            const RealType   weight = weights[static_cast<size_t>(k + radius)];
+            if (k == -radius)
+            {
+              for (long x = 0; x < size[0]; ++x)
+              {
+                out[x] = weight * in[x];
+              }
+            }
+            else
+            {
+              for (long x = 0; x < size[0]; ++x)
+              {
+                out[x] += weight * in[x];
+              }
+            }
+          }
+        }
+      },
+      nullptr);
+  };
+
+  const PixelType * inputBuffer = input->GetBufferPointer();
+  PixelType *       outputBuffer = output->GetBufferPointer();
+  if constexpr (std::is_same<PixelType, RealType>::value)
   {
-    out[i] = static_cast<PixelType>(current[i]);
+    if (axes.empty())
+    {
+      std::copy(inputBuffer, inputBuffer + count, outputBuffer);
+    }
+    std::unique_ptr<RealType[]> scratch(axes.size() > 1 ? new RealType[count] : nullptr);
+    const RealType *            from = inputBuffer;
+    for (size_t p = 0; p < axes.size(); ++p)
+    {
+      RealType * to = (axes.size() - 1 - p) % 2 == 0 ? outputBuffer : scratch.get();
+      pass(axes[p], from, to);
+      from = to;
+      this->UpdateProgress(static_cast<float>(p + 1) / static_cast<float>(axes.size()));
+    }
+  }
+  else
+  {
+    std::vector<RealType> current(inputBuffer, inputBuffer + count);
+    std::vector<RealType> next(axes.size() > 0 ? count : 0);
+    for (size_t p = 0; p < axes.size(); ++p)
+    {
+      pass(axes[p], current.data(), next.data());
+      current.swap(next);
+      this->UpdateProgress(static_cast<float>(p + 1) / static_cast<float>(axes.size()));
+    }
+    for (size_t i = 0; i < count; ++i)
+    {
+      outputBuffer[i] = static_cast<PixelType>(current[i]);
+    }
   }
 }
 } // namespace itk

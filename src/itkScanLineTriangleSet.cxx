@@ -102,6 +102,14 @@ ScanLineTriangleSet::Prepare(const GridGeometry & grid, bool needSign, double re
       it.upper[k] = std::max({ it.a[k], it.b[k], it.c[k] });
     }
   }
+  // The planes the distance rows bound with, once per triangle rather than once per row.
+  const double gridSpacing[3] = { spacing[0], spacing[1], spacing[2] };
+  m_ScaledPlaneSpacing = { { spacing[0], spacing[1], spacing[2] } };
+  m_ScaledPlanes.resize(reachDistance >= 0.0 ? m_IndexTriangles.size() : 0);
+  for (size_t t = 0; t < m_ScaledPlanes.size(); ++t)
+  {
+    m_ScaledPlanes[t] = MakeScaledPlane(m_IndexTriangles[t], gridSpacing);
+  }
 
   // Rows of the requested region only: a streamed piece bins the triangles of its own rows.
   const long j0 = grid.RegionIndex[1];
@@ -187,6 +195,8 @@ ScanLineTriangleSet::ComputeRowSquaredDistances(long                            
   };
   std::vector<Candidate>     candidates;
   std::vector<std::uint64_t> keys;
+  const bool samePlanes = m_ScaledPlanes.size() == m_IndexTriangles.size() && spacing[0] == m_ScaledPlaneSpacing[0] &&
+                          spacing[1] == m_ScaledPlaneSpacing[1] && spacing[2] == m_ScaledPlaneSpacing[2];
   // A triangle whose extent along the row, grown by the radius, misses the voxels asked for (a row's masked
   // span) is skipped before any other work; the slack of one voxel covers the rounding of the bounds below.
   const double reachAlong = std::sqrt(limit) / spacing[0];
@@ -215,29 +225,15 @@ ScanLineTriangleSet::ComputeRowSquaredDistances(long                            
     {
       continue;
     }
-    // The triangle's plane in the grid's frame scaled to physical units: its distance is a second lower bound.
-    const double sa[3] = { spacing[0] * t.a[0], spacing[1] * t.a[1], spacing[2] * t.a[2] };
-    double       ab[3], ac[3];
-    for (unsigned int d = 0; d < 3; ++d)
-    {
-      ab[d] = spacing[d] * t.b[d] - sa[d];
-      ac[d] = spacing[d] * t.c[d] - sa[d];
-    }
-    double normal[3] = { ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2], ab[0] * ac[1] - ab[1] * ac[0] };
-    const double normalLength = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
-    double       planeOffset = 0.0;
-    double       planeSlope = 0.0;
-    if (normalLength > 0.0)
-    {
-      for (double & component : normal)
-      {
-        component /= normalLength;
-      }
-      planeOffset = normal[1] * (y - sa[1]) + normal[2] * (z - sa[2]) - normal[0] * sa[0];
-      planeSlope = normal[0];
-    }
-    const auto    rank = static_cast<float>(across);
-    std::uint32_t bits;
+    // The triangle's plane in the grid's frame scaled to physical units: its distance is a second lower bound
+    // (made by Prepare() for its grid's spacing).
+    const ScaledPlane plane = samePlanes ? m_ScaledPlanes[*it] : MakeScaledPlane(t, spacing);
+    const auto &      sa = plane.corner;
+    const auto &      normal = plane.normal;
+    const double      planeOffset = normal[1] * (y - sa[1]) + normal[2] * (z - sa[2]) - normal[0] * sa[0];
+    const double      planeSlope = normal[0];
+    const auto        rank = static_cast<float>(across);
+    std::uint32_t     bits;
     std::memcpy(&bits, &rank, sizeof(bits));
     keys.push_back((static_cast<std::uint64_t>(bits) << 32) | candidates.size());
     candidates.push_back(
@@ -269,6 +265,27 @@ ScanLineTriangleSet::ComputeRowSquaredDistances(long                            
       best = std::min(best, ClosestPointOnTriangle(points[i], triangle.a, triangle.b, triangle.c, closest));
     }
   }
+}
+
+auto
+ScanLineTriangleSet::MakeScaledPlane(const IndexSpaceTriangle & t, const double spacing[3]) -> ScaledPlane
+{
+  ScaledPlane plane;
+  plane.corner = { { spacing[0] * t.a[0], spacing[1] * t.a[1], spacing[2] * t.a[2] } };
+  double ab[3], ac[3];
+  for (unsigned int d = 0; d < 3; ++d)
+  {
+    ab[d] = spacing[d] * t.b[d] - plane.corner[d];
+    ac[d] = spacing[d] * t.c[d] - plane.corner[d];
+  }
+  plane.normal = { { ab[1] * ac[2] - ab[2] * ac[1], ab[2] * ac[0] - ab[0] * ac[2], ab[0] * ac[1] - ab[1] * ac[0] } };
+  const double normalLength = std::sqrt(plane.normal[0] * plane.normal[0] + plane.normal[1] * plane.normal[1] +
+                                        plane.normal[2] * plane.normal[2]);
+  for (double & component : plane.normal)
+  {
+    component = normalLength > 0.0 ? component / normalLength : 0.0;
+  }
+  return plane;
 }
 
 void

@@ -146,7 +146,7 @@ TestFilter()
   ITK_TEST_EXPECT_EQUAL(filter->GetSigmaArray()[2], 1.0);
 
   // Sigmas of one voxel, of several, and an axis left alone (sigma 0): every output voxel within 1e-5 of the sum.
-  FilterType::SigmaArrayType sigmas[3];
+  FilterType::SigmaArrayType sigmas[5];
   sigmas[0].Fill(1.0);
   sigmas[1][0] = 2.1;
   sigmas[1][1] = 0.5;
@@ -154,6 +154,9 @@ TestFilter()
   sigmas[2][0] = 1.2;
   sigmas[2][1] = 0.0;
   sigmas[2][2] = 0.9;
+  sigmas[3].Fill(0.0); // one axis smoothed (the output written by one pass), then none (a copy)
+  sigmas[3][2] = 1.3;
+  sigmas[4].Fill(0.0);
   for (const auto & sigma : sigmas)
   {
     const auto   smoothed = Smooth(image, sigma, 1);
@@ -173,6 +176,34 @@ TestFilter()
     check(same, "the same image whatever the work units");
     check(smoothed->GetSpacing() == image->GetSpacing() && smoothed->GetOrigin() == image->GetOrigin(),
           "the input's geometry");
+  }
+
+  // Integer pixels, smoothed in float and cast back: the float image's result, truncated.
+  {
+    using ShortImageType = itk::Image<short, 3>;
+    auto shorts = ShortImageType::New();
+    shorts->CopyInformation(image);
+    shorts->SetRegions(image->GetLargestPossibleRegion());
+    shorts->Allocate();
+    auto         floats = MakeRandomImage(size, spacing, 5);
+    const size_t count = image->GetLargestPossibleRegion().GetNumberOfPixels();
+    for (size_t i = 0; i < count; ++i)
+    {
+      floats->GetBufferPointer()[i] = std::round(100.0f * floats->GetBufferPointer()[i]);
+      shorts->GetBufferPointer()[i] = static_cast<short>(floats->GetBufferPointer()[i]);
+    }
+    auto shortFilter = itk::TruncatedGaussianImageFilter<ShortImageType>::New();
+    shortFilter->SetInput(shorts);
+    shortFilter->SetSigmaArray(sigmas[1]);
+    shortFilter->Update();
+    const auto floatSmoothed = Smooth(floats, sigmas[1], 1);
+    bool       truncated = true;
+    for (size_t i = 0; i < count; ++i)
+    {
+      truncated = truncated && shortFilter->GetOutput()->GetBufferPointer()[i] ==
+                                 static_cast<short>(floatSmoothed->GetBufferPointer()[i]);
+    }
+    check(truncated, "short pixels: the float result, truncated");
   }
 
   // The kernel: normalized, symmetric, radius ceil(3 sigma / spacing), and a single 1 for sigma 0.
