@@ -40,7 +40,7 @@ namespace detail
  * (2 (L_x L_y + L_x L_z + L_y L_z) X = 2 L_y (L_x X) + 2 L_z (L_x X + L_y X)): seven one-axis passes whose inner loops
  * run over contiguous values, in place of the matrix's 25 entries per row gathered by index. Equal to the sparse
  * product up to rounding (tested against it). X and the result hold three values per coefficient (coefficient index
- * i + n0 (j + n1 k)), row-major. Not for concurrent calls on one object (the passes share its scratch buffers).
+ * i + n0 (j + n1 k)), row-major. Not for concurrent calls on one object (the passes share its scratch buffer).
  * \ingroup FFDShapeMatching
  */
 class BSplineLatticeBendingProduct
@@ -88,7 +88,6 @@ public:
     }
     m_Count = stride;
     m_AlongX.resize(m_Count);
-    m_Mixed.resize(m_Count);
   }
 
   /** out = factor (R + shift I) in, each holding Columns values per coefficient. */
@@ -106,9 +105,9 @@ public:
     std::fill(m_AlongX.begin(), m_AlongX.end(), 0.0);
     this->AddAlongAxis(m_First[0], 1, 0, 1.0, in, m_AlongX.data());
     this->AddAlongAxis(m_First[1], 1, 1, 2.0 * factor, m_AlongX.data(), out);
-    std::copy(m_AlongX.begin(), m_AlongX.end(), m_Mixed.begin());
-    this->AddAlongAxis(m_First[1], 1, 1, 1.0, in, m_Mixed.data());
-    this->AddAlongAxis(m_First[2], 1, 2, 2.0 * factor, m_Mixed.data(), out);
+    // L_x X, read: L_x X + L_y X in its place.
+    this->AddAlongAxis(m_First[1], 1, 1, 1.0, in, m_AlongX.data());
+    this->AddAlongAxis(m_First[2], 1, 2, 2.0 * factor, m_AlongX.data(), out);
   }
 
   /** The number of values a product reads and writes: Columns per coefficient. */
@@ -206,7 +205,6 @@ private:
   std::array<std::vector<double>, 3> m_Second{};
   std::array<std::vector<double>, 3> m_First{};
   mutable std::vector<double>        m_AlongX{};
-  mutable std::vector<double>        m_Mixed{};
 };
 } // namespace detail
 } // namespace itk
