@@ -131,9 +131,9 @@ private:
   UpdateGramMatrices(const MeshSizeType & meshSize);
 
   /** out = A in along one axis of the control lattice (the lines along \c axis, each multiplied by the banded
-   * matrix A of that axis), for values with axis 0 fastest. */
+   * Gram matrix A of that axis and derivative order), for values with axis 0 fastest. */
   void
-  ApplyAlongAxis(const GramMatrixType & matrix, unsigned int axis, const double * in, double * out) const;
+  ApplyAlongAxis(unsigned int axis, unsigned int order, const double * in, double * out) const;
 
   double
   EvaluateBendingEnergy(const BSplineTransformType & transform, DerivativeType * gradient, double gradientFactor);
@@ -153,6 +153,12 @@ private:
   bool         m_GramMatricesValid{ false };
   /** m_Gram[axis][order]: Gram matrix of the order-th derivatives of the basis along an axis. */
   std::vector<std::array<GramMatrixType, 3>> m_Gram{};
+  /** m_Diagonals[axis][order]: the seven diagonals of m_Gram[axis][order], for products along contiguous lines. */
+  std::vector<std::array<std::vector<double>, 3>> m_Diagonals{};
+  /** Buffers of EvaluateBendingEnergy(), kept between calls: the partial products after each axis but the last, and
+   * the product, two sums and the coefficients converted to double (for other parameter types). */
+  std::vector<std::vector<std::vector<double>>> m_PartialProducts{};
+  std::array<std::vector<double>, 4>            m_ProductBuffers{};
 };
 } // namespace itk
 

@@ -24,6 +24,7 @@
 #include ITK_EIGEN(Core)
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 
 namespace itk
 {
@@ -129,19 +130,41 @@ BSplineDeformationPenalty<TParametersValueType, NDimensions>::UpdateGramMatrices
       }
     }
   }
+  // The seven diagonals of each (banded) matrix, diagonal d holding row i's weight of i + d - 3 at i (zero outside).
+  m_Diagonals.assign(NDimensions, {});
+  for (unsigned int axis = 0; axis < NDimensions; ++axis)
+  {
+    const size_t n = meshSize[axis] + 3;
+    for (unsigned int order = 0; order < 3; ++order)
+    {
+      std::vector<double> & diagonals = m_Diagonals[axis][order];
+      diagonals.assign(7 * n, 0.0);
+      for (size_t i = 0; i < n; ++i)
+      {
+        for (size_t d = 0; d < 7; ++d)
+        {
+          if (i + d >= 3 && i + d - 3 < n)
+          {
+            diagonals[d * n + i] = m_Gram[axis][order][i * n + i + d - 3];
+          }
+        }
+      }
+    }
+  }
   m_CachedMeshSize = meshSize;
   m_GramMatricesValid = true;
 }
 
 template <typename TParametersValueType, unsigned int NDimensions>
 void
-BSplineDeformationPenalty<TParametersValueType, NDimensions>::ApplyAlongAxis(const GramMatrixType & matrix,
-                                                                             unsigned int           axis,
-                                                                             const double *         in,
-                                                                             double *               out) const
+BSplineDeformationPenalty<TParametersValueType, NDimensions>::ApplyAlongAxis(unsigned int   axis,
+                                                                             unsigned int   order,
+                                                                             const double * in,
+                                                                             double *       out) const
 {
-  size_t total = 1;
-  size_t stride = 1;
+  const GramMatrixType & matrix = m_Gram[axis][order];
+  size_t                 total = 1;
+  size_t                 stride = 1;
   for (unsigned int a = 0; a < NDimensions; ++a)
   {
     total *= m_CachedMeshSize[a] + 3;
@@ -149,32 +172,56 @@ BSplineDeformationPenalty<TParametersValueType, NDimensions>::ApplyAlongAxis(con
   }
   const size_t n = m_CachedMeshSize[axis] + 3;
   const size_t outer = total / (n * stride);
+  using BlockType = Eigen::Array<double, 8, 1>;
+  constexpr size_t block = BlockType::SizeAtCompileTime;
   for (size_t o = 0; o < outer; ++o)
   {
     const size_t base = o * n * stride;
-    for (size_t i = 0; i < n; ++i)
+    if (stride == 1)
     {
-      // The Gram matrices are banded: a cubic B-spline overlaps the three neighbours on each side.
-      const size_t jBegin = i >= 3 ? i - 3 : 0;
-      const size_t jEnd = std::min(n, i + 4);
-      double *     target = out + base + i * stride;
-      if (stride == 1)
+      // One contiguous line: its interior rows (every neighbour within the line) a block of rows at a time, with the
+      // matrix's diagonals as the weights (the same products, added in the same order, as row by row below).
+      const double * line = in + base;
+      double *       target = out + base;
+      const double * diagonals = m_Diagonals[axis][order].data();
+      size_t         i = 3;
+      for (; i + block + 3 <= n; i += block)
       {
-        double sum = 0.0;
+        BlockType sum = BlockType::Zero();
+        for (size_t d = 0; d < 7; ++d)
+        {
+          sum += Eigen::Map<const BlockType>(diagonals + d * n + i) * Eigen::Map<const BlockType>(line + i + d - 3);
+        }
+        Eigen::Map<BlockType>(target + i) = sum;
+      }
+      for (size_t r = 0; r < n; ++r)
+      {
+        if (r >= 3 && r < i)
+        {
+          continue;
+        }
+        const size_t jBegin = r >= 3 ? r - 3 : 0;
+        const size_t jEnd = std::min(n, r + 4);
+        double       sum = 0.0;
         for (size_t j = jBegin; j < jEnd; ++j)
         {
-          sum += matrix[i * n + j] * in[base + j];
+          sum += matrix[r * n + j] * line[j];
         }
-        *target = sum;
-        continue;
+        target[r] = sum;
       }
-      // The lines along this axis side by side, a block of contiguous values at a time: each block's sums stay in
-      // registers over the band (the same products, added in the same order, as value by value).
-      using BlockType = Eigen::Array<double, 8, 1>;
-      constexpr size_t block = BlockType::SizeAtCompileTime;
-      const double *   weights = matrix.data() + i * n;
-      const double *   lines = in + base;
-      size_t           inner = 0;
+      continue;
+    }
+    for (size_t i = 0; i < n; ++i)
+    {
+      // The Gram matrices are banded: a cubic B-spline overlaps the three neighbours on each side. The lines along
+      // this axis side by side, a block of contiguous values at a time: each block's sums stay in registers over the
+      // band (the same products, added in the same order, as value by value).
+      const size_t   jBegin = i >= 3 ? i - 3 : 0;
+      const size_t   jEnd = std::min(n, i + 4);
+      double *       target = out + base + i * stride;
+      const double * weights = matrix.data() + i * n;
+      const double * lines = in + base;
+      size_t         inner = 0;
       for (; inner + block <= stride; inner += block)
       {
         BlockType sum = BlockType::Zero();
@@ -224,7 +271,7 @@ BSplineDeformationPenalty<TParametersValueType, NDimensions>::EvaluateBendingEne
   struct Partial
   {
     std::array<unsigned int, NDimensions> orders;
-    std::vector<double>                   values;
+    const double *                        values;
   };
   const auto factorOf = [&](const std::array<unsigned int, NDimensions> & orders) {
     double       denominator = cellCount;
@@ -247,18 +294,36 @@ BSplineDeformationPenalty<TParametersValueType, NDimensions>::EvaluateBendingEne
 
   const ParametersType & parameters = transform.GetParameters();
   double                 energy = 0.0;
-  std::vector<double>    product(numberOfControlPoints);
-  std::vector<double>    scratch(numberOfControlPoints);
-  std::vector<double>    alongLast(numberOfControlPoints);
+  // The partial products live in buffers kept between calls (one set per axis but the last), as do the sums.
+  m_PartialProducts.resize(NDimensions);
+  std::vector<double> & product = m_ProductBuffers[0];
+  std::vector<double> & scratch = m_ProductBuffers[1];
+  std::vector<double> & alongLast = m_ProductBuffers[2];
+  std::vector<double> & converted = m_ProductBuffers[3];
+  product.resize(numberOfControlPoints);
+  scratch.resize(numberOfControlPoints);
+  alongLast.resize(numberOfControlPoints);
   for (unsigned int d = 0; d < NDimensions; ++d)
   {
     const TParametersValueType * coefficients = parameters.data_block() + d * numberOfControlPoints;
-    std::vector<Partial>         level(1);
+    const double *               values = nullptr;
+    if constexpr (std::is_same_v<TParametersValueType, double>)
+    {
+      values = coefficients;
+    }
+    else
+    {
+      converted.assign(coefficients, coefficients + numberOfControlPoints);
+      values = converted.data();
+    }
+    std::vector<Partial> level(1);
     level[0].orders.fill(0);
-    level[0].values.assign(coefficients, coefficients + numberOfControlPoints);
+    level[0].values = values;
     for (unsigned int axis = 0; axis + 1 < NDimensions; ++axis)
     {
-      std::vector<Partial> next;
+      std::vector<Partial>               next;
+      std::vector<std::vector<double>> & storage = m_PartialProducts[axis];
+      size_t                             usedBuffers = 0;
       for (const Partial & partial : level)
       {
         unsigned int used = 0;
@@ -268,10 +333,16 @@ BSplineDeformationPenalty<TParametersValueType, NDimensions>::EvaluateBendingEne
         }
         for (unsigned int order = 0; used + order <= 2; ++order)
         {
-          Partial extended{ partial.orders, std::vector<double>(numberOfControlPoints) };
+          if (storage.size() <= usedBuffers)
+          {
+            storage.emplace_back();
+          }
+          std::vector<double> & buffer = storage[usedBuffers++];
+          buffer.resize(numberOfControlPoints);
+          Partial extended{ partial.orders, buffer.data() };
           extended.orders[axis] = order;
-          this->ApplyAlongAxis(m_Gram[axis][order], axis, partial.values.data(), extended.values.data());
-          next.push_back(std::move(extended));
+          this->ApplyAlongAxis(axis, order, partial.values, buffer.data());
+          next.push_back(extended);
         }
       }
       level = std::move(next);
@@ -305,7 +376,7 @@ BSplineDeformationPenalty<TParametersValueType, NDimensions>::EvaluateBendingEne
       {
         continue;
       }
-      this->ApplyAlongAxis(m_Gram[last][order], last, scratch.data(), alongLast.data());
+      this->ApplyAlongAxis(last, order, scratch.data(), alongLast.data());
       for (size_t k = 0; k < numberOfControlPoints; ++k)
       {
         product[k] += alongLast[k];

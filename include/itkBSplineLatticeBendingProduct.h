@@ -110,6 +110,55 @@ public:
     this->AddAlongAxis(m_First[2], 1, 2, 2.0 * factor, m_AlongX.data(), out);
   }
 
+  /** The diagonal of R + shift I, one value per coefficient. */
+  Eigen::VectorXd
+  GetDiagonal() const
+  {
+    Eigen::VectorXd diagonal(static_cast<Eigen::Index>(m_Size[0] * m_Size[1] * m_Size[2]));
+    for (size_t k = 0; k < m_Size[2]; ++k)
+    {
+      for (size_t j = 0; j < m_Size[1]; ++j)
+      {
+        for (size_t i = 0; i < m_Size[0]; ++i)
+        {
+          const std::array<size_t, 3> at{ i, j, k };
+          std::array<double, 3>       second{};
+          std::array<double, 3>       first{};
+          for (unsigned int axis = 0; axis < 3; ++axis)
+          {
+            second[axis] = m_Second[axis][at[axis] * m_Size[axis] + at[axis]];
+            first[axis] = m_First[axis][at[axis] * m_Size[axis] + at[axis]];
+          }
+          diagonal[static_cast<Eigen::Index>(i + m_Size[0] * (j + m_Size[1] * k))] =
+            second[0] + second[1] + second[2] +
+            2.0 * (first[0] * first[1] + first[0] * first[2] + first[1] * first[2]) + m_Shift;
+        }
+      }
+    }
+    return diagonal;
+  }
+
+  /** The shift added to R. */
+  double
+  GetShift() const
+  {
+    return m_Shift;
+  }
+
+  /** The lattice's size. */
+  const std::array<size_t, 3> &
+  GetSize() const
+  {
+    return m_Size;
+  }
+
+  /** D2^T D2 (\c order 2) or D1^T D1 (\c order 1) of an axis: dense, row-major, the axis' length squared. */
+  const std::vector<double> &
+  GetAxisFactor(unsigned int axis, unsigned int order) const
+  {
+    return order == 2 ? m_Second[axis] : m_First[axis];
+  }
+
   /** The number of values a product reads and writes: Columns per coefficient. */
   size_t
   GetNumberOfValues() const

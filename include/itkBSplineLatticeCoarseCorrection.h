@@ -44,7 +44,8 @@ namespace detail
  * bending term is weak) slowly; C solves for those on the coarse lattice. D^-1 + C is then the conjugate gradients'
  * preconditioner (detail::SolveConjugateGradient's \c correct adds C r).
  *
- * P^T R P is formed once; Update() forms P^T B^T diag(m) B P from the samples' separable weights (a few coarse nodes
+ * P^T R P is formed once (from R's one-axis factors when the operator applies R by them, from its entries otherwise);
+ * Update() forms P^T B^T diag(m) B P from the samples' separable weights (a few coarse nodes
  * per axis and sample) at the operator's current masses, adds s P^T R P and factors the result (dense Cholesky).
  * Where the factorization fails (the coarse matrix is not positive definite, e.g. no mass and no regularizer),
  * AddCorrection adds nothing and the preconditioner is Jacobi's alone. Restriction P^T and prolongation P are applied
@@ -84,8 +85,15 @@ public:
         axis.Fraction[i] = t - static_cast<double>(low);
       }
     }
-    const Eigen::SparseMatrix<double> prolongation = GetProlongation();
-    m_CoarseRegularizer = Eigen::MatrixXd(prolongation.transpose() * (normal.GetRegularizer() * prolongation));
+    if (const BSplineLatticeBendingProduct * bending = normal.GetBendingProduct())
+    {
+      m_CoarseRegularizer = this->ProjectBendingMatrix(*bending);
+    }
+    else
+    {
+      const Eigen::SparseMatrix<double> prolongation = GetProlongation();
+      m_CoarseRegularizer = Eigen::MatrixXd(prolongation.transpose() * (normal.GetRegularizer() * prolongation));
+    }
   }
 
   /** The number of coarse coefficients (per coordinate). */
@@ -317,6 +325,74 @@ public:
   }
 
 private:
+  /** P^T (R + shift I) P for the lattice's bending matrix R from its one-axis factors: P is the Kronecker product of
+   * the axes' interpolations P_a and each term of R + shift I one of one-axis matrices A_a (the identity, D1^T D1 or
+   * D2^T D2), so each term's projection is the Kronecker product of the small P_a^T A_a P_a (no fine-lattice matrix
+   * is formed). */
+  Eigen::MatrixXd
+  ProjectBendingMatrix(const BSplineLatticeBendingProduct & bending) const
+  {
+    const auto & size = m_Normal.GetSize();
+    // projected[axis][order]: P_a^T A P_a, A the identity (order 0), D1^T D1 (1) or D2^T D2 (2) of the axis.
+    std::array<std::array<Eigen::MatrixXd, 3>, 3> projected;
+    for (unsigned int axis = 0; axis < 3; ++axis)
+    {
+      const Axis &    a = m_Axes[axis];
+      const auto      n = static_cast<Eigen::Index>(size[axis]);
+      Eigen::MatrixXd interpolation = Eigen::MatrixXd::Zero(n, static_cast<Eigen::Index>(a.Coarse));
+      for (Eigen::Index i = 0; i < n; ++i)
+      {
+        interpolation(i, a.Low[i]) += 1.0 - a.Fraction[i];
+        interpolation(i, a.Low[i] + 1) += a.Fraction[i];
+      }
+      projected[axis][0] = interpolation.transpose() * interpolation;
+      for (unsigned int order = 1; order < 3; ++order)
+      {
+        const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> factor(
+          bending.GetAxisFactor(axis, order).data(), n, n);
+        projected[axis][order] = interpolation.transpose() * factor * interpolation;
+      }
+    }
+    // The terms of R + shift I: the derivative order per axis and the factor.
+    struct Term
+    {
+      std::array<unsigned int, 3> orders;
+      double                      factor;
+    };
+    const std::array<Term, 7> terms{ { { { 2, 0, 0 }, 1.0 },
+                                       { { 0, 2, 0 }, 1.0 },
+                                       { { 0, 0, 2 }, 1.0 },
+                                       { { 1, 1, 0 }, 2.0 },
+                                       { { 1, 0, 1 }, 2.0 },
+                                       { { 0, 1, 1 }, 2.0 },
+                                       { { 0, 0, 0 }, bending.GetShift() } } };
+    const Eigen::Index        c0 = static_cast<Eigen::Index>(m_Axes[0].Coarse);
+    const Eigen::Index        c1 = static_cast<Eigen::Index>(m_Axes[1].Coarse);
+    const Eigen::Index        c2 = static_cast<Eigen::Index>(m_Axes[2].Coarse);
+    Eigen::MatrixXd           coarse = Eigen::MatrixXd::Zero(c0 * c1 * c2, c0 * c1 * c2);
+    for (const Term & term : terms)
+    {
+      const Eigen::MatrixXd & x = projected[0][term.orders[0]];
+      const Eigen::MatrixXd & y = projected[1][term.orders[1]];
+      const Eigen::MatrixXd & z = projected[2][term.orders[2]];
+      for (Eigen::Index k = 0; k < c2; ++k)
+      {
+        for (Eigen::Index kk = 0; kk < c2; ++kk)
+        {
+          for (Eigen::Index j = 0; j < c1; ++j)
+          {
+            for (Eigen::Index jj = 0; jj < c1; ++jj)
+            {
+              const double yz = term.factor * y(j, jj) * z(k, kk);
+              coarse.block(c0 * (j + c1 * k), c0 * (jj + c1 * kk), c0, c0) += yz * x;
+            }
+          }
+        }
+      }
+    }
+    return coarse;
+  }
+
   /** Per axis: each fine node's lower coarse node and its fraction of the way to the next. */
   struct Axis
   {

@@ -69,49 +69,29 @@ public:
                               std::vector<unsigned int>           firsts,
                               std::vector<WeightsType>            weights,
                               const Eigen::SparseMatrix<double> & regularizer)
-    : m_Size(size)
-    , m_RowStride(size[0])
-    , m_SliceStride(size[0] * size[1])
-    , m_Firsts(std::move(firsts))
-    , m_Weights(std::move(weights))
-    , m_Regularizer(regularizer)
-    , m_Mass(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m_Firsts.size())))
+    : BSplineSampleNormalOperator(size, std::move(firsts), std::move(weights))
   {
-    const size_t count = size[0] * size[1] * size[2];
-    if (regularizer.rows() != static_cast<Eigen::Index>(count) || regularizer.cols() != regularizer.rows())
+    if (regularizer.rows() != static_cast<Eigen::Index>(m_Count) || regularizer.cols() != regularizer.rows())
     {
       itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: a " << regularizer.rows() << " x " << regularizer.cols()
-                               << " regularizer for " << count << " coefficients");
+                               << " regularizer for " << m_Count << " coefficients");
     }
-    if (m_Firsts.size() != m_Weights.size())
-    {
-      itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: " << m_Firsts.size() << " supports but "
-                               << m_Weights.size() << " weight sets");
-    }
-    for (size_t m = 0; m < m_Firsts.size(); ++m)
-    {
-      const size_t first = m_Firsts[m];
-      if (first % size[0] + 3 >= size[0] || (first / size[0]) % size[1] + 3 >= size[1] ||
-          first / m_SliceStride + 3 >= size[2])
-      {
-        itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: sample " << m << "'s support leaves the " << size[0]
-                                 << " x " << size[1] << " x " << size[2] << " lattice");
-      }
-    }
+    m_Regularizer = regularizer;
     m_Regularizer.makeCompressed();
     m_RegularizerDiagonal = m_Regularizer.diagonal();
   }
 
   /** The same, with R the lattice's bending matrix plus \c shift times the identity
    * (BSplineLatticeBendingMatrix(size) + shift I): R is then applied by its one-axis factors
-   * (BSplineLatticeBendingProduct) rather than entry by entry; GetRegularizer() still holds it as a sparse matrix. */
+   * (BSplineLatticeBendingProduct) and never formed entry by entry (GetRegularizer() forms it when asked). */
   BSplineSampleNormalOperator(const std::array<size_t, 3> & size,
                               std::vector<unsigned int>     firsts,
                               std::vector<WeightsType>      weights,
                               double                        shift)
-    : BSplineSampleNormalOperator(size, std::move(firsts), std::move(weights), ShiftedBendingMatrix(size, shift))
+    : BSplineSampleNormalOperator(size, std::move(firsts), std::move(weights))
   {
     m_BendingProduct.emplace(size, shift);
+    m_RegularizerDiagonal = m_BendingProduct->GetDiagonal();
   }
 
   /** The samples' masses m (one per sample) and the regularizer's weight s. */
@@ -131,9 +111,9 @@ public:
   void
   Apply(const BlockType & in, BlockType & out) const
   {
-    if (in.rows() != m_Regularizer.rows())
+    if (in.rows() != static_cast<Eigen::Index>(m_Count))
     {
-      itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: " << in.rows() << " rows for " << m_Regularizer.rows()
+      itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: " << in.rows() << " rows for " << m_Count
                                << " coefficients");
     }
     out.resize(in.rows(), 3);
@@ -164,14 +144,33 @@ public:
   }
 
 private:
-  /** R + shift I for the lattice's bending matrix R. */
-  static Eigen::SparseMatrix<double>
-  ShiftedBendingMatrix(const std::array<size_t, 3> & size, double shift)
+  /** The samples and the lattice, checked; the public constructors add the regularizer. */
+  BSplineSampleNormalOperator(const std::array<size_t, 3> & size,
+                              std::vector<unsigned int>     firsts,
+                              std::vector<WeightsType>      weights)
+    : m_Size(size)
+    , m_RowStride(size[0])
+    , m_SliceStride(size[0] * size[1])
+    , m_Count(size[0] * size[1] * size[2])
+    , m_Firsts(std::move(firsts))
+    , m_Weights(std::move(weights))
+    , m_Mass(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(m_Firsts.size())))
   {
-    const auto                  count = static_cast<Eigen::Index>(size[0] * size[1] * size[2]);
-    Eigen::SparseMatrix<double> identity(count, count);
-    identity.setIdentity();
-    return BSplineLatticeBendingMatrix(size) + shift * identity;
+    if (m_Firsts.size() != m_Weights.size())
+    {
+      itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: " << m_Firsts.size() << " supports but "
+                               << m_Weights.size() << " weight sets");
+    }
+    for (size_t m = 0; m < m_Firsts.size(); ++m)
+    {
+      const size_t first = m_Firsts[m];
+      if (first % size[0] + 3 >= size[0] || (first / size[0]) % size[1] + 3 >= size[1] ||
+          first / m_SliceStride + 3 >= size[2])
+      {
+        itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: sample " << m << "'s support leaves the " << size[0]
+                                 << " x " << size[1] << " x " << size[2] << " lattice");
+      }
+    }
   }
 
   /** target = s R source from R's entries, row by row, each row's three sums held in registers. */
@@ -206,9 +205,9 @@ public:
   void
   ApplyBasis(const BlockType & in, BlockType & out) const
   {
-    if (in.rows() != m_Regularizer.rows())
+    if (in.rows() != static_cast<Eigen::Index>(m_Count))
     {
-      itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: " << in.rows() << " rows for " << m_Regularizer.rows()
+      itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: " << in.rows() << " rows for " << m_Count
                                << " coefficients");
     }
     out.resize(static_cast<Eigen::Index>(m_Firsts.size()), 3);
@@ -232,7 +231,7 @@ public:
       itkGenericExceptionMacro(<< "BSplineSampleNormalOperator: " << in.rows() << " rows for " << m_Firsts.size()
                                << " samples");
     }
-    out.setZero(m_Regularizer.rows(), 3);
+    out.setZero(static_cast<Eigen::Index>(m_Count), 3);
     for (size_t m = 0; m < m_Firsts.size(); ++m)
     {
       this->ScatterSample({ in(static_cast<Eigen::Index>(m), 0),
@@ -264,10 +263,25 @@ public:
   {
     return m_Mass;
   }
-  const RegularizerType &
+  /** R as a sparse matrix (formed here when R is the lattice's bending matrix plus a shift). */
+  RegularizerType
   GetRegularizer() const
   {
+    if (m_BendingProduct)
+    {
+      const auto                  count = static_cast<Eigen::Index>(m_Count);
+      Eigen::SparseMatrix<double> identity(count, count);
+      identity.setIdentity();
+      return RegularizerType(BSplineLatticeBendingMatrix(m_Size) + m_BendingProduct->GetShift() * identity);
+    }
     return m_Regularizer;
+  }
+
+  /** The one-axis factors of R when it is the lattice's bending matrix plus a shift (null otherwise). */
+  const BSplineLatticeBendingProduct *
+  GetBendingProduct() const
+  {
+    return m_BendingProduct ? &*m_BendingProduct : nullptr;
   }
   double
   GetRegularizerWeight() const
@@ -359,9 +373,10 @@ private:
   std::array<size_t, 3>     m_Size;
   size_t                    m_RowStride;
   size_t                    m_SliceStride;
+  size_t                    m_Count;
   std::vector<unsigned int> m_Firsts;
   std::vector<WeightsType>  m_Weights;
-  RegularizerType           m_Regularizer;
+  RegularizerType           m_Regularizer{}; // Empty when m_BendingProduct applies R.
   Eigen::VectorXd           m_RegularizerDiagonal;
   Eigen::VectorXd           m_Mass;
   double                    m_RegularizerWeight{ 1.0 };
