@@ -124,7 +124,30 @@ public:
     // twice as many nodes as leaves. Reserved once, the nodes are never moved while the tree grows.
     const std::size_t fewestPerLeaf = std::max<std::size_t>(1, (m_LeafSize + 1) / 2);
     m_Nodes.reserve(2 * (m_Triangles.size() / fewestPerLeaf) + 1);
-    this->BuildNode(0, static_cast<std::uint32_t>(m_Triangles.size()));
+    // The splits reorder triangle numbers (keyed by their corners' coordinate sums), not the triangles themselves;
+    // the triangles are put in the final order once, at the end (the same order as moving them at each split).
+    const auto count = static_cast<std::uint32_t>(m_Triangles.size());
+    m_Order.resize(count);
+    m_CornerSums.resize(count);
+    for (std::uint32_t i = 0; i < count; ++i)
+    {
+      const Triangle & t = m_Triangles[i];
+      m_Order[i] = i;
+      for (unsigned int k = 0; k < 3; ++k)
+      {
+        m_CornerSums[i][k] = t.a[k] + t.b[k] + t.c[k];
+      }
+    }
+    this->BuildNode(0, count);
+    std::vector<Triangle> ordered;
+    ordered.reserve(count);
+    for (const std::uint32_t i : m_Order)
+    {
+      ordered.push_back(m_Triangles[i]);
+    }
+    m_Triangles = std::move(ordered);
+    m_Order = {};
+    m_CornerSums = {};
   }
 
   std::size_t
@@ -389,7 +412,7 @@ private:
     VectorType centroidMax = node.boxMax;
     for (std::uint32_t i = first; i < first + count; ++i)
     {
-      GrowBounds(m_Triangles[i], node, centroidMin, centroidMax);
+      GrowBounds(m_Triangles[m_Order[i]], node, centroidMin, centroidMax);
     }
     if (!m_FarField)
     {
@@ -401,7 +424,7 @@ private:
     node.dipole = { 0.0, 0.0, 0.0 };
     for (std::uint32_t i = first; i < first + count; ++i)
     {
-      const Triangle & t = m_Triangles[i];
+      const Triangle & t = m_Triangles[m_Order[i]];
       const VectorType areaNormal = AreaNormal(t);
       const VectorType centroid = Centroid(t);
       const double     area =
@@ -422,7 +445,7 @@ private:
     node.moment.fill(0.0);
     for (std::uint32_t i = first; i < first + count; ++i)
     {
-      const Triangle & t = m_Triangles[i];
+      const Triangle & t = m_Triangles[m_Order[i]];
       const VectorType areaNormal = AreaNormal(t);
       const VectorType centroid = Centroid(t);
       for (unsigned int j = 0; j < 3; ++j)
@@ -471,12 +494,11 @@ private:
       }
     }
     const std::uint32_t half = count / 2;
-    std::nth_element(m_Triangles.begin() + first,
-                     m_Triangles.begin() + first + half,
-                     m_Triangles.begin() + first + count,
-                     [axis](const Triangle & x, const Triangle & y) {
-                       return x.a[axis] + x.b[axis] + x.c[axis] < y.a[axis] + y.b[axis] + y.c[axis];
-                     });
+    std::nth_element(
+      m_Order.begin() + first,
+      m_Order.begin() + first + half,
+      m_Order.begin() + first + count,
+      [this, axis](std::uint32_t x, std::uint32_t y) { return m_CornerSums[x][axis] < m_CornerSums[y][axis]; });
     node.count = 0;
     node.first = first;
     m_Nodes[index] = node;
@@ -488,9 +510,12 @@ private:
   }
 
   std::vector<Triangle> m_Triangles;
-  bool                  m_FarField{ true };
-  std::vector<Node>     m_Nodes;
-  unsigned int          m_LeafSize{ 4 };
+  // While Build() runs: the triangles' numbers in tree order and their corners' coordinate sums per axis.
+  std::vector<std::uint32_t>         m_Order;
+  std::vector<std::array<double, 3>> m_CornerSums;
+  bool                               m_FarField{ true };
+  std::vector<Node>                  m_Nodes;
+  unsigned int                       m_LeafSize{ 4 };
 };
 
 } // namespace detail
