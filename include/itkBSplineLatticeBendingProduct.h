@@ -110,6 +110,22 @@ public:
     this->AddAlongAxis(m_First[2], 1, 2, 2.0 * factor, m_AlongX.data(), out);
   }
 
+  /** One term of R: per axis the order of its one-axis factor (0 the identity, 1 D1^T D1, 2 D2^T D2) and its
+   * weight. */
+  struct Term
+  {
+    std::array<unsigned int, 3> Orders;
+    double                      Weight;
+  };
+
+  /** R's terms: sum_a K_a + 2 sum_{a<b} L_a L_b (the shift adds the identity, of orders 0, 0, 0). */
+  static constexpr std::array<Term, 6> Terms{ { { { 2, 0, 0 }, 1.0 },
+                                                { { 0, 2, 0 }, 1.0 },
+                                                { { 0, 0, 2 }, 1.0 },
+                                                { { 1, 1, 0 }, 2.0 },
+                                                { { 1, 0, 1 }, 2.0 },
+                                                { { 0, 1, 1 }, 2.0 } } };
+
   /** The diagonal of R + shift I, one value per coefficient. */
   Eigen::VectorXd
   GetDiagonal() const
@@ -122,16 +138,19 @@ public:
         for (size_t i = 0; i < m_Size[0]; ++i)
         {
           const std::array<size_t, 3> at{ i, j, k };
-          std::array<double, 3>       second{};
-          std::array<double, 3>       first{};
-          for (unsigned int axis = 0; axis < 3; ++axis)
+          double                      value = m_Shift;
+          for (const Term & term : Terms)
           {
-            second[axis] = m_Second[axis][at[axis] * m_Size[axis] + at[axis]];
-            first[axis] = m_First[axis][at[axis] * m_Size[axis] + at[axis]];
+            double product = term.Weight;
+            for (unsigned int axis = 0; axis < 3; ++axis)
+            {
+              product *= term.Orders[axis] == 0
+                           ? 1.0
+                           : GetAxisFactor(axis, term.Orders[axis])[at[axis] * m_Size[axis] + at[axis]];
+            }
+            value += product;
           }
-          diagonal[static_cast<Eigen::Index>(i + m_Size[0] * (j + m_Size[1] * k))] =
-            second[0] + second[1] + second[2] +
-            2.0 * (first[0] * first[1] + first[0] * first[2] + first[1] * first[2]) + m_Shift;
+          diagonal[static_cast<Eigen::Index>(i + m_Size[0] * (j + m_Size[1] * k))] = value;
         }
       }
     }
@@ -143,13 +162,6 @@ public:
   GetShift() const
   {
     return m_Shift;
-  }
-
-  /** The lattice's size. */
-  const std::array<size_t, 3> &
-  GetSize() const
-  {
-    return m_Size;
   }
 
   /** D2^T D2 (\c order 2) or D1^T D1 (\c order 1) of an axis: dense, row-major, the axis' length squared. */

@@ -353,28 +353,19 @@ private:
         projected[axis][order] = interpolation.transpose() * factor * interpolation;
       }
     }
-    // The terms of R + shift I: the derivative order per axis and the factor.
-    struct Term
+    // The terms of R (BSplineLatticeBendingProduct::Terms) and the shift's identity.
+    std::vector<BSplineLatticeBendingProduct::Term> terms(BSplineLatticeBendingProduct::Terms.begin(),
+                                                          BSplineLatticeBendingProduct::Terms.end());
+    terms.push_back({ { 0, 0, 0 }, bending.GetShift() });
+    const Eigen::Index c0 = static_cast<Eigen::Index>(m_Axes[0].Coarse);
+    const Eigen::Index c1 = static_cast<Eigen::Index>(m_Axes[1].Coarse);
+    const Eigen::Index c2 = static_cast<Eigen::Index>(m_Axes[2].Coarse);
+    Eigen::MatrixXd    coarse = Eigen::MatrixXd::Zero(c0 * c1 * c2, c0 * c1 * c2);
+    for (const auto & term : terms)
     {
-      std::array<unsigned int, 3> orders;
-      double                      factor;
-    };
-    const std::array<Term, 7> terms{ { { { 2, 0, 0 }, 1.0 },
-                                       { { 0, 2, 0 }, 1.0 },
-                                       { { 0, 0, 2 }, 1.0 },
-                                       { { 1, 1, 0 }, 2.0 },
-                                       { { 1, 0, 1 }, 2.0 },
-                                       { { 0, 1, 1 }, 2.0 },
-                                       { { 0, 0, 0 }, bending.GetShift() } } };
-    const Eigen::Index        c0 = static_cast<Eigen::Index>(m_Axes[0].Coarse);
-    const Eigen::Index        c1 = static_cast<Eigen::Index>(m_Axes[1].Coarse);
-    const Eigen::Index        c2 = static_cast<Eigen::Index>(m_Axes[2].Coarse);
-    Eigen::MatrixXd           coarse = Eigen::MatrixXd::Zero(c0 * c1 * c2, c0 * c1 * c2);
-    for (const Term & term : terms)
-    {
-      const Eigen::MatrixXd & x = projected[0][term.orders[0]];
-      const Eigen::MatrixXd & y = projected[1][term.orders[1]];
-      const Eigen::MatrixXd & z = projected[2][term.orders[2]];
+      const Eigen::MatrixXd & x = projected[0][term.Orders[0]];
+      const Eigen::MatrixXd & y = projected[1][term.Orders[1]];
+      const Eigen::MatrixXd & z = projected[2][term.Orders[2]];
       for (Eigen::Index k = 0; k < c2; ++k)
       {
         for (Eigen::Index kk = 0; kk < c2; ++kk)
@@ -383,7 +374,7 @@ private:
           {
             for (Eigen::Index jj = 0; jj < c1; ++jj)
             {
-              const double yz = term.factor * y(j, jj) * z(k, kk);
+              const double yz = term.Weight * y(j, jj) * z(k, kk);
               coarse.block(c0 * (j + c1 * k), c0 * (jj + c1 * kk), c0, c0) += yz * x;
             }
           }
