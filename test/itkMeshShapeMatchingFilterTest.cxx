@@ -216,6 +216,9 @@ itkMeshShapeMatchingFilterTest(int, char *[])
       // Likewise the coarse level's smoothing: ITK's recursive Gaussian for GO, the truncated Gaussian for GOCPD.
       ITK_TEST_EXPECT_EQUAL(filter->GetModifiableGORegistration()->GetUseTruncatedGaussianSmoothing(),
                             method == MethodEnum::GOCPD);
+      // And the stopping rule: LBFGSB's gradient tolerance 1e-4 as GOCPD's first stage, 1e-5 for GO alone.
+      ITK_TEST_EXPECT_EQUAL(filter->GetModifiableGORegistration()->GetConvergenceTolerance(),
+                            method == MethodEnum::GOCPD ? 1e-4 : 1e-5);
     }
     std::cout << progressEvents << " progress events, the last at " << lastProgress << std::endl;
     ITK_TEST_EXPECT_TRUE(progressEvents > 10);
