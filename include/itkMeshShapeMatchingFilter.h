@@ -88,7 +88,9 @@ namespace itk
  * The filter holds the module's tuned settings of every method, measured on the module's benchmark; these are its
  * defaults and the defaults of the ffd-match program. The internal filters are reachable
  * (GetModifiableGORegistration() and friends) for tuning beyond the settings offered here; the settings of this
- * filter are written onto them at every Update().
+ * filter are written onto them at every Update(), and so are the GO stage's settings that depend on the method
+ * (UseMovingImageGradientFilter, UseTruncatedGaussianSmoothing and ConvergenceTolerance: 1e-4 as GOCPD's first
+ * stage, 1e-5 for GO alone), so those are not tuned through GetModifiableGORegistration().
  *
  * \code
  * auto matching = itk::MeshShapeMatchingFilter<MeshType>::New();
