@@ -384,8 +384,9 @@ RunCase(const ArgumentMap & options)
     throw Error("the region holds no triangle of the mesh (increase --fraction)");
   }
 
-  // T_true on a grid^3 lattice over the region grown by the margin. The smooth regime must not fold:
-  // new draws (seed + 7919 k), then smaller amplitudes, until min det J > 0.2.
+  // T_true on a grid^3 lattice over the region grown by the margin. The smooth regime must not fold, and every
+  // region vertex must have a preimage (a large displacement near the domain's edge can leave a gap there):
+  // new draws (seed + 7919 k), then smaller amplitudes, until min det J > 0.2 and every inverse converges.
   PointType domainLow;
   PointType domainHigh;
   for (unsigned int d = 0; d < 3; ++d)
@@ -393,12 +394,30 @@ RunCase(const ArgumentMap & options)
     domainLow[d] = regionLow[d] - margin;
     domainHigh[d] = regionHigh[d] + margin;
   }
+  // Target vertices: T_true^-1 of the region's source vertices, so that T_true maps them back exactly.
+  std::vector<PointType> regionPoints;
+  for (const auto id : regionVertices)
+  {
+    regionPoints.push_back(sourcePoints[id]);
+  }
+  const MeshType::Pointer regionMesh = MakeMesh(regionPoints, {});
+  ApplyType::Pointer      apply;
+  const auto              invertRegion = [&apply, &regionMesh](GeneratorType::TransformType * transform) {
+    apply = ApplyType::New();
+    apply->SetInput(regionMesh);
+    apply->SetTransform(transform);
+    apply->InverseOn();
+    apply->SetInverseTolerance(1e-6);
+    apply->Update();
+    return apply->GetNumberOfNonConvergedPoints() == 0;
+  };
   auto generator = GeneratorType::New();
   generator->SetDomainFromBoundingBox(domainLow, domainHigh);
   generator->SetNumberOfControlPointsPerAxis(static_cast<unsigned int>(grid));
   double       rms = 3.0;
   uint32_t     usedSeed = seed;
   unsigned int attempts = 0;
+  unsigned int drawsWithoutPreimage = 0; // Smooth regimes: draws replaced because a region vertex had no preimage.
   if (regime == "paper")
   {
     generator->SetNoise(GeneratorType::NoiseEnum::ClippedGaussian);
@@ -407,6 +426,7 @@ RunCase(const ArgumentMap & options)
     generator->SetSeed(seed);
     generator->Generate();
     attempts = 1;
+    invertRegion(generator->GetModifiableTransform());
   }
   else
   {
@@ -420,7 +440,11 @@ RunCase(const ArgumentMap & options)
       ++attempts;
       if (generator->GetMinimumJacobianDeterminant() > 0.2)
       {
-        break;
+        if (invertRegion(generator->GetModifiableTransform()))
+        {
+          break;
+        }
+        ++drawsWithoutPreimage;
       }
       if (attempts % 5 == 0)
       {
@@ -431,18 +455,6 @@ RunCase(const ArgumentMap & options)
   }
   GeneratorType::TransformType::Pointer trueTransform = generator->GetModifiableTransform();
 
-  // Target vertices: T_true^-1 of the region's source vertices, so that T_true maps them back exactly.
-  std::vector<PointType> regionPoints;
-  for (const auto id : regionVertices)
-  {
-    regionPoints.push_back(sourcePoints[id]);
-  }
-  auto apply = ApplyType::New();
-  apply->SetInput(MakeMesh(regionPoints, {}));
-  apply->SetTransform(trueTransform);
-  apply->InverseOn();
-  apply->SetInverseTolerance(1e-6);
-  apply->Update();
   if (apply->GetNumberOfNonConvergedPoints() > 0)
   {
     throw Error(std::to_string(apply->GetNumberOfNonConvergedPoints()) +
@@ -506,7 +518,8 @@ RunCase(const ArgumentMap & options)
   std::ostringstream json;
   json << std::setprecision(10) << "{\n  \"mesh\": " << JsonString(meshName)
        << ",\n  \"regime\": " << JsonString(regime) << ",\n  \"seed\": " << seed
-       << ",\n  \"generator_seed\": " << usedSeed << ",\n  \"attempts\": " << attempts << ",\n  \"scale\": " << scale
+       << ",\n  \"generator_seed\": " << usedSeed << ",\n  \"attempts\": " << attempts
+       << ",\n  \"draws_without_preimage\": " << drawsWithoutPreimage << ",\n  \"scale\": " << scale
        << ",\n  \"fraction\": " << fraction << ",\n  \"grid\": " << grid << ",\n  \"margin\": " << margin
        << ",\n  \"noise\": "
        << (regime == "paper" ? "{ \"type\": \"ClippedGaussian\", \"sigma\": 1, \"clip\": 1 }"
