@@ -46,7 +46,8 @@ namespace detail
  *
  * P^T R P is formed once (from R's one-axis factors when the operator applies R by them, from its entries otherwise);
  * Update() forms P^T B^T diag(m) B P from the samples' separable weights (a few coarse nodes
- * per axis and sample) at the operator's current masses, adds s P^T R P and factors the result (dense Cholesky).
+ * per axis and sample) at the operator's current masses, adds s P^T R P and factors the result (dense Cholesky; the
+ * factor's rows are kept packed for the substitutions).
  * Where the factorization fails (the coarse matrix is not positive definite, e.g. no mass and no regularizer),
  * AddCorrection adds nothing and the preconditioner is Jacobi's alone. Restriction P^T and prolongation P are applied
  * axis by axis. Tested against the explicit matrices.
@@ -205,8 +206,23 @@ public:
         }
       }
     }
-    m_Factor.compute(coarse);
-    m_Factored = m_Factor.info() == Eigen::Success;
+    const Eigen::LLT<Eigen::MatrixXd> factor(coarse);
+    m_Factored = factor.info() == Eigen::Success;
+    if (m_Factored)
+    {
+      // L's rows packed one after the other (row i holds i + 1 entries), for SolveFactoredInPlace.
+      const Eigen::MatrixXd & lower = factor.matrixLLT();
+      const Eigen::Index      n = lower.rows();
+      m_PackedFactor.resize(static_cast<size_t>(n * (n + 1) / 2));
+      size_t at = 0;
+      for (Eigen::Index i = 0; i < n; ++i)
+      {
+        for (Eigen::Index j = 0; j <= i; ++j)
+        {
+          m_PackedFactor[at++] = lower(i, j);
+        }
+      }
+    }
   }
 
   /** Whether the last Update() factored the coarse matrix. */
@@ -225,9 +241,42 @@ public:
       return;
     }
     Restrict(residual, m_Coarse);
-    m_Factor.solveInPlace(m_Coarse);
+    SolveFactoredInPlace(m_Coarse);
     Prolongate(m_Coarse, m_Fine);
     z += m_Fine;
+  }
+
+  /** coarse = (L L^T)^-1 coarse with the last Update()'s factor L (after a successful one): forward and back
+   * substitution over L's packed rows, the three columns side by side. L is read twice, row after row, which costs
+   * about a third of Eigen's LLT::solveInPlace on the few columns of a row-major block (there, the blocked
+   * triangular solves' packing dominates). */
+  void
+  SolveFactoredInPlace(BlockType & coarse) const
+  {
+    const Eigen::Index n = coarse.rows();
+    m_CoarseColumns = coarse;
+    const double * row = m_PackedFactor.data();
+    for (Eigen::Index i = 0; i < n; ++i) // L y = b: y_i = (b_i - L_i,<i y_<i) / L_ii
+    {
+      const Eigen::Map<const Eigen::VectorXd> lower(row, i);
+      for (int c = 0; c < 3; ++c)
+      {
+        m_CoarseColumns(i, c) = (m_CoarseColumns(i, c) - lower.dot(m_CoarseColumns.col(c).head(i))) / row[i];
+      }
+      row += i + 1;
+    }
+    for (Eigen::Index i = n - 1; i >= 0; --i) // L^T x = y: x_i = y_i / L_ii, then y_<i -= L_i,<i x_i
+    {
+      row -= i + 1;
+      const Eigen::Map<const Eigen::VectorXd> lower(row, i);
+      for (int c = 0; c < 3; ++c)
+      {
+        const double x = m_CoarseColumns(i, c) / row[i];
+        m_CoarseColumns(i, c) = x;
+        m_CoarseColumns.col(c).head(i) -= x * lower;
+      }
+    }
+    coarse = m_CoarseColumns;
   }
 
   /** coarse = P^T fine, axis by axis. */
@@ -395,12 +444,13 @@ private:
   const BSplineSampleNormalOperator & m_Normal;
   std::array<Axis, 3>                 m_Axes;
   Eigen::MatrixXd                     m_CoarseRegularizer;
-  Eigen::LLT<Eigen::MatrixXd>         m_Factor;
+  std::vector<double>                 m_PackedFactor; // L's rows, L L^T = P^T A P (see SolveFactoredInPlace).
   bool                                m_Factored{ false };
-  mutable BlockType                   m_AlongX;
-  mutable BlockType                   m_AlongY;
-  mutable BlockType                   m_Coarse;
-  mutable BlockType                   m_Fine;
+  mutable Eigen::Matrix<double, Eigen::Dynamic, 3> m_CoarseColumns;
+  mutable BlockType                                m_AlongX;
+  mutable BlockType                                m_AlongY;
+  mutable BlockType                                m_Coarse;
+  mutable BlockType                                m_Fine;
 };
 } // namespace detail
 } // namespace itk
