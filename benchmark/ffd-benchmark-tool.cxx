@@ -426,7 +426,11 @@ RunCase(const ArgumentMap & options)
     generator->SetSeed(seed);
     generator->Generate();
     attempts = 1;
-    invertRegion(generator->GetModifiableTransform());
+    if (!invertRegion(generator->GetModifiableTransform()))
+    {
+      throw Error(std::to_string(apply->GetNumberOfNonConvergedPoints()) +
+                  " region vertices have no preimage under T_true (increase --margin)");
+    }
   }
   else
   {
@@ -454,12 +458,6 @@ RunCase(const ArgumentMap & options)
     }
   }
   GeneratorType::TransformType::Pointer trueTransform = generator->GetModifiableTransform();
-
-  if (apply->GetNumberOfNonConvergedPoints() > 0)
-  {
-    throw Error(std::to_string(apply->GetNumberOfNonConvergedPoints()) +
-                " region vertices have no preimage under T_true (increase --margin)");
-  }
 
   // Shuffle: target vertex k is region vertex order[k].
   std::vector<std::size_t> order(regionVertices.size());

@@ -246,39 +246,6 @@ public:
     z += m_Fine;
   }
 
-  /** coarse = (L L^T)^-1 coarse with the last Update()'s factor L (after a successful one): forward and back
-   * substitution over L's packed rows, the three columns side by side. L is read twice, row after row, which costs
-   * about a third of Eigen's LLT::solveInPlace on the few columns of a row-major block (there, the blocked
-   * triangular solves' packing dominates). */
-  void
-  SolveFactoredInPlace(BlockType & coarse) const
-  {
-    const Eigen::Index n = coarse.rows();
-    m_CoarseColumns = coarse;
-    const double * row = m_PackedFactor.data();
-    for (Eigen::Index i = 0; i < n; ++i) // L y = b: y_i = (b_i - L_i,<i y_<i) / L_ii
-    {
-      const Eigen::Map<const Eigen::VectorXd> lower(row, i);
-      for (int c = 0; c < 3; ++c)
-      {
-        m_CoarseColumns(i, c) = (m_CoarseColumns(i, c) - lower.dot(m_CoarseColumns.col(c).head(i))) / row[i];
-      }
-      row += i + 1;
-    }
-    for (Eigen::Index i = n - 1; i >= 0; --i) // L^T x = y: x_i = y_i / L_ii, then y_<i -= L_i,<i x_i
-    {
-      row -= i + 1;
-      const Eigen::Map<const Eigen::VectorXd> lower(row, i);
-      for (int c = 0; c < 3; ++c)
-      {
-        const double x = m_CoarseColumns(i, c) / row[i];
-        m_CoarseColumns(i, c) = x;
-        m_CoarseColumns.col(c).head(i) -= x * lower;
-      }
-    }
-    coarse = m_CoarseColumns;
-  }
-
   /** coarse = P^T fine, axis by axis. */
   void
   Restrict(const BlockType & fine, BlockType & coarse) const
@@ -374,6 +341,39 @@ public:
   }
 
 private:
+  /** coarse = (L L^T)^-1 coarse with the last Update()'s factor L (after a successful one): forward and back
+   * substitution over L's packed rows, the three columns side by side. L is read twice, row after row, which costs
+   * about a third of Eigen's LLT::solveInPlace on the few columns of a row-major block (there, the blocked
+   * triangular solves' packing dominates). */
+  void
+  SolveFactoredInPlace(BlockType & coarse) const
+  {
+    const Eigen::Index n = coarse.rows();
+    m_CoarseColumns = coarse;
+    const double * row = m_PackedFactor.data();
+    for (Eigen::Index i = 0; i < n; ++i) // L y = b: y_i = (b_i - L_i,<i y_<i) / L_ii
+    {
+      const Eigen::Map<const Eigen::VectorXd> lower(row, i);
+      for (int c = 0; c < 3; ++c)
+      {
+        m_CoarseColumns(i, c) = (m_CoarseColumns(i, c) - lower.dot(m_CoarseColumns.col(c).head(i))) / row[i];
+      }
+      row += i + 1;
+    }
+    for (Eigen::Index i = n - 1; i >= 0; --i) // L^T x = y: x_i = y_i / L_ii, then y_<i -= L_i,<i x_i
+    {
+      row -= i + 1;
+      const Eigen::Map<const Eigen::VectorXd> lower(row, i);
+      for (int c = 0; c < 3; ++c)
+      {
+        const double x = m_CoarseColumns(i, c) / row[i];
+        m_CoarseColumns(i, c) = x;
+        m_CoarseColumns.col(c).head(i) -= x * lower;
+      }
+    }
+    coarse = m_CoarseColumns;
+  }
+
   /** P^T (R + shift I) P for the lattice's bending matrix R from its one-axis factors: P is the Kronecker product of
    * the axes' interpolations P_a and each term of R + shift I one of one-axis matrices A_a (the identity, D1^T D1 or
    * D2^T D2), so each term's projection is the Kronecker product of the small P_a^T A_a P_a (no fine-lattice matrix
