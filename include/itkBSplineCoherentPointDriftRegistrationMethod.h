@@ -244,6 +244,14 @@ public:
   itkSetClampMacro(CoarseCorrectionUpdateInterval, unsigned int, 1, NumericTraits<unsigned int>::max());
   itkGetConstMacro(CoarseCorrectionUpdateInterval, unsigned int);
 
+  /** Whether the M-step's conjugate gradients are preconditioned by blocks of 2 x 2 x 2 coefficients
+   * (detail::BSplineLatticeBlockJacobi) instead of Jacobi's diagonal, with the coarse correction added either way; the
+   * blocks are formed again whenever the coarse correction is. Default: on (measured on the module's benchmark;
+   * benchmark/PEERS_MESH.md). */
+  itkSetMacro(UseBlockJacobiPreconditioner, bool);
+  itkGetConstMacro(UseBlockJacobiPreconditioner, bool);
+  itkBooleanMacro(UseBlockJacobiPreconditioner);
+
   /** Seed of the sampling. Default: 121212. */
   itkSetMacro(RandomSeed, int);
   itkGetConstMacro(RandomSeed, int);
@@ -272,6 +280,8 @@ public:
   /** How many steps that carried momentum raised the residual and were taken back (see Momentum). */
   itkGetConstMacro(NumberOfMomentumRestarts, unsigned int);
   itkGetConstMacro(FinalRegularizationWeight, double);
+  /** The conjugate-gradient iterations of all M-steps of the last Update(). */
+  itkGetConstMacro(NumberOfSolverIterationsTaken, unsigned int);
 
   /** Why the last Update() stopped. */
   itkGetConstReferenceMacro(StopConditionDescription, std::string);
@@ -316,6 +326,7 @@ private:
   double       m_SolverTolerance{ 1e-3 };
   unsigned int m_NumberOfCoarseControlPointsPerAxis{ 7 };
   unsigned int m_CoarseCorrectionUpdateInterval{ 10 };
+  bool         m_UseBlockJacobiPreconditioner{ true };
   int          m_RandomSeed{ 121212 };
   double       m_MaximumRunTime{ 0.0 };
 
@@ -324,6 +335,7 @@ private:
   std::vector<double> m_MetricValues{};
   unsigned int        m_NumberOfRegularizationIncreases{ 0 };
   unsigned int        m_NumberOfMomentumRestarts{ 0 };
+  unsigned int        m_NumberOfSolverIterationsTaken{ 0 };
   double              m_FinalRegularizationWeight{ 0.0 };
   std::string         m_StopConditionDescription{};
 };

@@ -20,6 +20,7 @@
 
 #include "itkBSplineCoherentPointDriftRegistrationMethod.h"
 #include "itkBSplineLatticeRegularization.h"
+#include "itkBSplineLatticeBlockJacobi.h"
 #include "itkBSplineLatticeCoarseCorrection.h"
 #include "itkBSplineSampleNormalOperator.h"
 #include "itkSparseMultipleRightHandConjugateGradient.h"
@@ -315,6 +316,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   m_MetricValues.clear();
   m_NumberOfRegularizationIncreases = 0;
   m_NumberOfMomentumRestarts = 0;
+  m_NumberOfSolverIterationsTaken = 0;
   m_StopConditionDescription.clear();
 
   const FixedMeshType *  fixedMesh = this->GetFixedMesh();
@@ -480,6 +482,12 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
   {
     coarseCorrection =
       std::make_unique<detail::BSplineLatticeCoarseCorrection>(normalOperator, m_NumberOfCoarseControlPointsPerAxis);
+  }
+  // Its fine level: the blocks of 2 x 2 x 2 coefficients, or Jacobi's diagonal.
+  std::unique_ptr<detail::BSplineLatticeBlockJacobi> blockJacobi;
+  if (m_UseBlockJacobiPreconditioner)
+  {
+    blockJacobi = std::make_unique<detail::BSplineLatticeBlockJacobi>(normalOperator);
   }
 
   // d index / d x of the control lattice, for the fold checks.
@@ -845,34 +853,53 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     for (unsigned int attempt = 0;; ++attempt)
     {
       normalOperator.SetWeighting(massVector, lambda * scale);
-      // The coarse matrix is formed and factored again when the regularizer's weight was raised, when sigma moved
-      // by more than 1 % since it was formed, or every CoarseCorrectionUpdateInterval iterations; in between, the
-      // last factorization serves (a preconditioner need only be close: at the minimum sigma the masses change
-      // little from one iteration to the next).
-      if (coarseCorrection && (attempt > 0 || !(std::abs(sigma2 - coarseSigma2) <= 0.01 * sigma2) ||
-                               iteration >= coarseIteration + m_CoarseCorrectionUpdateInterval))
+      // The preconditioner's parts are formed again when the regularizer's weight was raised, when sigma moved
+      // by more than 1 % since they were formed, or every CoarseCorrectionUpdateInterval iterations; in between, the
+      // last ones serve (a preconditioner need only be close: at the minimum sigma the masses change little from one
+      // iteration to the next).
+      if ((coarseCorrection || blockJacobi) && (attempt > 0 || !(std::abs(sigma2 - coarseSigma2) <= 0.01 * sigma2) ||
+                                                iteration >= coarseIteration + m_CoarseCorrectionUpdateInterval))
       {
-        coarseCorrection->Update();
+        if (coarseCorrection)
+        {
+          coarseCorrection->Update();
+        }
+        if (blockJacobi)
+        {
+          blockJacobi->Update();
+        }
         coarseSigma2 = sigma2;
         coarseIteration = iteration;
       }
       // The Dimension right-hand sides side by side: one pass over the samples per iteration serves all of them.
       RowMajorCoefficients columns = coefficient;
-      detail::SolveConjugateGradient<Dimension>(
-        [&normalOperator](const RowMajorCoefficients & in, RowMajorCoefficients & out) {
-          normalOperator.Apply(in, out);
-        },
-        normalOperator.GetDiagonal(),
-        rhs,
-        columns,
-        m_NumberOfSolverIterations,
-        m_SolverTolerance,
-        [&coarseCorrection](const RowMajorCoefficients & residual, RowMajorCoefficients & corrected) {
-          if (coarseCorrection)
-          {
-            coarseCorrection->AddCorrection(residual, corrected);
-          }
-        });
+      const auto           apply = [&normalOperator](const RowMajorCoefficients & in, RowMajorCoefficients & out) {
+        normalOperator.Apply(in, out);
+      };
+      const auto correct = [&coarseCorrection](const RowMajorCoefficients & residual, RowMajorCoefficients & z) {
+        if (coarseCorrection)
+        {
+          coarseCorrection->AddCorrection(residual, z);
+        }
+      };
+      if (blockJacobi)
+      {
+        m_NumberOfSolverIterationsTaken += detail::SolvePreconditionedConjugateGradient<Dimension>(
+          apply,
+          [&blockJacobi, &correct](const RowMajorCoefficients & residual, RowMajorCoefficients & z) {
+            blockJacobi->Apply(residual, z);
+            correct(residual, z);
+          },
+          rhs,
+          columns,
+          m_NumberOfSolverIterations,
+          m_SolverTolerance);
+      }
+      else
+      {
+        m_NumberOfSolverIterationsTaken += detail::SolveConjugateGradient<Dimension>(
+          apply, normalOperator.GetDiagonal(), rhs, columns, m_NumberOfSolverIterations, m_SolverTolerance, correct);
+      }
       solved = columns;
       // Fold check at the target samples.
       if (minimumDeterminantOf(solved) >= m_MinimumJacobianDeterminant || attempt >= 6)
@@ -988,12 +1015,14 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::PrintSelf(
   os << indent << "SolverTolerance: " << m_SolverTolerance << std::endl;
   os << indent << "NumberOfCoarseControlPointsPerAxis: " << m_NumberOfCoarseControlPointsPerAxis << std::endl;
   os << indent << "CoarseCorrectionUpdateInterval: " << m_CoarseCorrectionUpdateInterval << std::endl;
+  os << indent << "UseBlockJacobiPreconditioner: " << (m_UseBlockJacobiPreconditioner ? "On" : "Off") << std::endl;
   os << indent << "RandomSeed: " << m_RandomSeed << std::endl;
   os << indent << "MaximumRunTime: " << m_MaximumRunTime << std::endl;
   os << indent << "TimeLimitReached: " << m_TimeLimitReached << std::endl;
   os << indent << "NumberOfIterationsRun: " << m_SigmaValues.size() << std::endl;
   os << indent << "NumberOfRegularizationIncreases: " << m_NumberOfRegularizationIncreases << std::endl;
   os << indent << "NumberOfMomentumRestarts: " << m_NumberOfMomentumRestarts << std::endl;
+  os << indent << "NumberOfSolverIterationsTaken: " << m_NumberOfSolverIterationsTaken << std::endl;
   os << indent << "FinalRegularizationWeight: " << m_FinalRegularizationWeight << std::endl;
   os << indent << "StopConditionDescription: " << m_StopConditionDescription << std::endl;
 }

@@ -61,33 +61,26 @@ struct NoPreconditionerCorrection
   {}
 };
 
-template <int TColumns, typename TApply, typename TCorrect = NoPreconditionerCorrection>
+/** The conjugate gradients with a general preconditioner: \c precondition(r, z) sets z = M^-1 r, M symmetric positive
+ * definite (e.g. block Jacobi, detail::BSplineLatticeBlockJacobi, plus a coarse correction). \c apply, the
+ * right-hand side, the starting guess in \c solution, the stopping rule and the result as SolveConjugateGradient. */
+template <int TColumns, typename TApply, typename TPrecondition>
 unsigned int
-SolveConjugateGradient(const TApply &                                                           apply,
-                       const Eigen::VectorXd &                                                  diagonal,
-                       const Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor> & rightHandSide,
-                       Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor> &       solution,
-                       unsigned int                                                             maximumIterations,
-                       double                                                                   tolerance,
-                       const TCorrect &                                                         correct = TCorrect())
+SolvePreconditionedConjugateGradient(
+  const TApply &                                                           apply,
+  const TPrecondition &                                                    precondition,
+  const Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor> & rightHandSide,
+  Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor> &       solution,
+  unsigned int                                                             maximumIterations,
+  double                                                                   tolerance)
 {
   using BlockType = Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor>;
   using RowType = Eigen::Matrix<double, 1, TColumns>;
-  const Eigen::Index size = diagonal.size();
-  if (rightHandSide.rows() != size || solution.rows() != size)
+  const Eigen::Index size = rightHandSide.rows();
+  if (solution.rows() != size)
   {
-    itkGenericExceptionMacro(<< "SolveConjugateGradient: a diagonal of " << size << " entries, " << rightHandSide.rows()
-                             << " right-hand rows and " << solution.rows() << " solution rows do not agree");
-  }
-  Eigen::VectorXd inverseDiagonal(size);
-  for (Eigen::Index n = 0; n < size; ++n)
-  {
-    if (!(diagonal[n] > 0.0))
-    {
-      itkGenericExceptionMacro(<< "SolveConjugateGradient: diagonal entry " << n << " is " << diagonal[n]
-                               << ", not positive");
-    }
-    inverseDiagonal[n] = 1.0 / diagonal[n];
+    itkGenericExceptionMacro(<< "SolveConjugateGradient: " << size << " right-hand rows and " << solution.rows()
+                             << " solution rows do not agree");
   }
 
   BlockType product(size, TColumns);
@@ -107,8 +100,8 @@ SolveConjugateGradient(const TApply &                                           
   RowType residualNorm2 = residual.colwise().squaredNorm();
   auto    active = [&](int c) { return rightNorm2[c] != 0.0 && residualNorm2[c] >= threshold[c]; };
 
-  BlockType direction = inverseDiagonal.asDiagonal() * residual;
-  correct(residual, direction);
+  BlockType direction(size, TColumns);
+  precondition(residual, direction);
   RowType      rho = (residual.cwiseProduct(direction)).colwise().sum();
   unsigned int iterations = 0;
   for (; iterations < maximumIterations; ++iterations)
@@ -136,7 +129,7 @@ SolveConjugateGradient(const TApply &                                           
         alpha[c] = rho[c] / curvature[c];
       }
     }
-    // One pass: the step, the new residual, its norm and its preconditioned form (kept in product); then rho.
+    // One pass: the step, the new residual and its norm; then its preconditioned form (kept in product) and rho.
     RowType rhoNew = RowType::Zero();
     residualNorm2.setZero();
     for (Eigen::Index n = 0; n < size; ++n)
@@ -144,9 +137,8 @@ SolveConjugateGradient(const TApply &                                           
       solution.row(n) += direction.row(n).cwiseProduct(alpha);
       residual.row(n) -= product.row(n).cwiseProduct(alpha);
       residualNorm2 += residual.row(n).cwiseAbs2();
-      product.row(n) = inverseDiagonal[n] * residual.row(n);
     }
-    correct(residual, product);
+    precondition(residual, product);
     for (Eigen::Index n = 0; n < size; ++n)
     {
       rhoNew += residual.row(n).cwiseProduct(product.row(n));
@@ -170,6 +162,45 @@ SolveConjugateGradient(const TApply &                                           
     rho = rhoNew;
   }
   return iterations;
+}
+
+template <int TColumns, typename TApply, typename TCorrect = NoPreconditionerCorrection>
+unsigned int
+SolveConjugateGradient(const TApply &                                                           apply,
+                       const Eigen::VectorXd &                                                  diagonal,
+                       const Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor> & rightHandSide,
+                       Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor> &       solution,
+                       unsigned int                                                             maximumIterations,
+                       double                                                                   tolerance,
+                       const TCorrect &                                                         correct = TCorrect())
+{
+  using BlockType = Eigen::Matrix<double, Eigen::Dynamic, TColumns, Eigen::RowMajor>;
+  const Eigen::Index size = diagonal.size();
+  if (rightHandSide.rows() != size || solution.rows() != size)
+  {
+    itkGenericExceptionMacro(<< "SolveConjugateGradient: a diagonal of " << size << " entries, " << rightHandSide.rows()
+                             << " right-hand rows and " << solution.rows() << " solution rows do not agree");
+  }
+  Eigen::VectorXd inverseDiagonal(size);
+  for (Eigen::Index n = 0; n < size; ++n)
+  {
+    if (!(diagonal[n] > 0.0))
+    {
+      itkGenericExceptionMacro(<< "SolveConjugateGradient: diagonal entry " << n << " is " << diagonal[n]
+                               << ", not positive");
+    }
+    inverseDiagonal[n] = 1.0 / diagonal[n];
+  }
+  return SolvePreconditionedConjugateGradient<TColumns>(
+    apply,
+    [&inverseDiagonal, &correct](const BlockType & residual, BlockType & z) {
+      z.noalias() = inverseDiagonal.asDiagonal() * residual;
+      correct(residual, z);
+    },
+    rightHandSide,
+    solution,
+    maximumIterations,
+    tolerance);
 }
 
 /** SolveConjugateGradient with A a sparse symmetric matrix (see the file's description). */
