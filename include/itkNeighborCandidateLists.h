@@ -21,6 +21,7 @@
 #include "itkMacro.h"
 #include "itkPointCloudKdTree.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -108,17 +109,32 @@ public:
   void
   ForEachWithin(size_t n, const TPoints & points, const double * query, double squaredRadius, TVisit && visit) const
   {
-    for (const unsigned int index : m_Candidates[n])
+    // A chunk of candidates at a time: the distances first, the ones within kept without a branch, then visited in
+    // list order (whether a candidate is within is a coin toss the branch predictor loses).
+    constexpr size_t                  chunk = 64;
+    const std::vector<unsigned int> & candidates = m_Candidates[n];
+    std::array<unsigned int, chunk>   keptIndices;
+    std::array<double, chunk>         keptDistances;
+    for (size_t start = 0; start < candidates.size(); start += chunk)
     {
-      double squaredDistance = 0.0;
-      for (unsigned int d = 0; d < 3; ++d)
+      const size_t end = std::min(start + chunk, candidates.size());
+      size_t       kept = 0;
+      for (size_t c = start; c < end; ++c)
       {
-        const double difference = query[d] - points[index][d];
-        squaredDistance += difference * difference;
+        const unsigned int index = candidates[c];
+        double             squaredDistance = 0.0;
+        for (unsigned int d = 0; d < 3; ++d)
+        {
+          const double difference = query[d] - points[index][d];
+          squaredDistance += difference * difference;
+        }
+        keptIndices[kept] = index;
+        keptDistances[kept] = squaredDistance;
+        kept += squaredDistance < squaredRadius ? 1 : 0;
       }
-      if (squaredDistance < squaredRadius)
+      for (size_t j = 0; j < kept; ++j)
       {
-        visit(index, squaredDistance);
+        visit(static_cast<size_t>(keptIndices[j]), keptDistances[j]);
       }
     }
   }
