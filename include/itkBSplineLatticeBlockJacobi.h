@@ -307,32 +307,14 @@ public:
     }
   }
 
-  /** The inverse of block \c b's part of A after the last Update() (missing slots: rows and columns of zeros). */
-  const SlotMatrixType &
-  GetBlockInverse(size_t b) const
-  {
-    return m_Inverse[b];
-  }
-
-  /** The lattice index of block \c b's slot 0 and whether its slot \c slot holds a coefficient. */
-  size_t
-  GetBlockCorner(size_t b) const
-  {
-    return m_Corner[b];
-  }
+private:
+  /** Whether block \c b's slot \c slot holds a coefficient (not at a thin block's missing side). */
   bool
   HasSlot(size_t b, unsigned int slot) const
   {
     return ((m_SlotMask[b] >> slot) & 1U) != 0;
   }
-  /** The lattice index of block \c b's slot \c slot (when HasSlot()). */
-  size_t
-  GetSlotIndex(size_t b, unsigned int slot) const
-  {
-    return m_Corner[b] + m_SlotOffset[slot];
-  }
 
-private:
   std::array<size_t, 3>
   Position(size_t index) const
   {
