@@ -292,6 +292,18 @@ struct RandomSamples
     return ExplicitMatrixAt(Mass, RegularizerWeight);
   }
 
+  /** Other masses, 0.5 to 1.5 times these (as between two updates of a preconditioner). */
+  Eigen::VectorXd
+  ChangedMass() const
+  {
+    Eigen::VectorXd changed = Mass;
+    for (Eigen::Index m = 0; m < changed.size(); ++m)
+    {
+      changed[m] *= 0.5 + static_cast<double>(m % 7) / 6.0;
+    }
+    return changed;
+  }
+
   /** B^T diag(mass) B + weight R. */
   Eigen::MatrixXd
   ExplicitMatrixAt(const Eigen::VectorXd & mass, double weight) const
@@ -541,11 +553,7 @@ TestCoarseCorrection()
   // A factorization formed at other masses and another regularizer weight (as the registration keeps it between
   // updates, CoarseCorrectionUpdateInterval) is still a valid preconditioner: the same answer, fewer iterations than
   // Jacobi's alone.
-  Eigen::VectorXd changedMass = samples.Mass;
-  for (Eigen::Index m = 0; m < changedMass.size(); ++m)
-  {
-    changedMass[m] *= 0.5 + static_cast<double>(m % 7) / 6.0; // 0.5 to 1.5 times
-  }
+  const Eigen::VectorXd changedMass = samples.ChangedMass();
   normal.SetWeighting(changedMass, 1.3 * samples.RegularizerWeight);
   ITK_TEST_EXPECT_EQUAL(
     checkSolves(samples.ExplicitMatrixAt(changedMass, 1.3 * samples.RegularizerWeight), "factored at other masses"),
@@ -707,11 +715,7 @@ TestBlockJacobi()
     return EXIT_SUCCESS;
   };
   ITK_TEST_EXPECT_EQUAL(checkSolves(samples.ExplicitMatrix(), "block Jacobi formed at these masses"), EXIT_SUCCESS);
-  Eigen::VectorXd changedMass = samples.Mass;
-  for (Eigen::Index m = 0; m < changedMass.size(); ++m)
-  {
-    changedMass[m] *= 0.5 + static_cast<double>(m % 7) / 6.0; // 0.5 to 1.5 times
-  }
+  const Eigen::VectorXd changedMass = samples.ChangedMass();
   byFactors.SetWeighting(changedMass, 1.3 * samples.RegularizerWeight);
   ITK_TEST_EXPECT_EQUAL(checkSolves(samples.ExplicitMatrixAt(changedMass, 1.3 * samples.RegularizerWeight),
                                     "block Jacobi formed at other masses"),
