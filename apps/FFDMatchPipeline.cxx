@@ -21,10 +21,8 @@
 #include "FFDMatchPipeline.h"
 #include "FFDInputFiles.h"
 #include "FFDProgramSupport.h"
+#include "FFDTransformFiles.h"
 #include "itkCompositeTransform.h"
-#include "itkRegisterFFDShapeMatchingTransforms.h"
-#include "itkTransformFileChecks.h"
-#include "itkTransformFileReader.h"
 
 #include <fstream>
 #include <iomanip>
@@ -45,33 +43,17 @@ ParametricTransformType::Pointer
 ReadTemplates(const Options & options)
 {
   CheckTemplatesFile<Error>(options.templates);
-  itk::RegisterFFDShapeMatchingTransforms();
-  // ITK's reader builds B-spline grids from unchecked values (a negative size is undefined behaviour).
-  const std::string fileProblem = itk::FindProblemInTextTransformFile(options.templates);
-  if (!fileProblem.empty())
-  {
-    throw Error("cannot read the templates '" + options.templates + "': " + fileProblem);
-  }
-  auto reader = itk::TransformFileReaderTemplate<double>::New();
-  reader->SetFileName(options.templates);
+  TransformListType all;
   try
   {
-    reader->Update();
-  }
-  catch (const itk::ExceptionObject & error)
-  {
-    throw Error("cannot read the templates '" + options.templates + "': " + OneLine(error.GetDescription()));
+    all = ReadTransformFile(options.templates);
   }
   catch (const std::exception & error)
   {
-    // ITK 5.2's text transform reader throws standard exceptions on some malformed files (found by fuzzing).
-    throw Error("cannot read the templates '" + options.templates + "': malformed transform file (" +
-                OneLine(error.what()) + ")");
+    throw Error("cannot read the templates '" + options.templates + "': " + OneLine(error.what()));
   }
-  ParametricTransformType::Pointer                         templates;
-  std::vector<const BSplineType *>                         bsplines;
-  std::vector<itk::TransformBaseTemplate<double>::Pointer> all(reader->GetTransformList()->begin(),
-                                                               reader->GetTransformList()->end());
+  ParametricTransformType::Pointer templates;
+  std::vector<const BSplineType *> bsplines;
   for (std::size_t i = 0; i < all.size(); ++i)
   {
     if (auto * composite = dynamic_cast<itk::CompositeTransform<double, 3> *>(all[i].GetPointer()))

@@ -34,12 +34,11 @@
 #include "FFDProgramMessages.h"
 #include "FFDProgramSupport.h"
 #include "FFDSnapshot.h"
+#include "FFDTransformFiles.h"
 #include "itkMeshSurfaceDistanceCalculator.h"
 #include "itkMultiThreaderBase.h"
 #include "itkRegisterFFDShapeMatchingTextMeshIOFactories.h"
-#include "itkTransformFileReader.h"
-#include "itkTransformFileWriter.h"
-#include "itkTransformIOFactory.h"
+#include "itkTransformFileText.h"
 #include "itkTransformToJacobianDeterminantImageFilter.h"
 
 #include <algorithm>
@@ -69,6 +68,15 @@ DeclareOutputs(const Options & options, OutputFiles & outputs)
     if (!options.templates.empty())
     {
       outputs.AddInput(options.templates);
+      // The templates are read by the transform files module: loaded (or found missing) before any work.
+      try
+      {
+        LoadTransformFileReader();
+      }
+      catch (const std::runtime_error & error)
+      {
+        throw Error("cannot read the templates '" + options.templates + "': " + OneLine(error.what()));
+      }
     }
     names[0] = outputs.Add(options.output, "--output", { ".off", ".obj", ".vtk", ".vtp", ".stl", ".ply" }, false);
     // An STL, PLY or VTP output needs VTK's formats: their module is loaded (or found missing) before any work.
@@ -76,8 +84,7 @@ DeclareOutputs(const Options & options, OutputFiles & outputs)
     if (!options.transformOut.empty())
     {
       names[1] = outputs.Add(options.transformOut, "--transform-out", {}, false);
-      if (itk::TransformIOFactoryTemplate<double>::CreateTransformIO(names[1].c_str(), itk::IOFileModeEnum::WriteMode)
-            .IsNull())
+      if (!itk::IsTextTransformFileName(names[1]))
       {
         throw Error("--transform-out must name a transform file ITK can write (e.g. .tfm, .txt), not '" +
                     options.transformOut + "'");
@@ -103,35 +110,26 @@ DeclareOutputs(const Options & options, OutputFiles & outputs)
   return names;
 }
 
-// Writes T to \c fileName and reads it back (a cut file would not parse).
+// Writes T to the output \c options.transformOut as ITK's text transform IO writes it (each write checked).
 void
-WriteTransform(const MatchingFilterType::TransformType * transform,
-               const std::string &                       fileName,
-               const Options &                           options)
+WriteTransform(const MatchingFilterType::TransformType * transform, const Options & options, OutputFiles & outputs)
 {
+  std::string text;
   try
   {
-    auto writer = itk::TransformFileWriterTemplate<double>::New();
-    writer->SetInput(transform);
-    writer->SetFileName(fileName);
-    writer->Update();
-    auto reader = itk::TransformFileReaderTemplate<double>::New();
-    reader->SetFileName(fileName);
-    reader->Update();
-    if (reader->GetTransformList()->empty() ||
-        reader->GetTransformList()->front()->GetNumberOfParameters() != transform->GetNumberOfParameters())
-    {
-      throw Error("the written file does not read back whole");
-    }
+    text = itk::MakeTextTransformFileContent(*transform);
   }
   catch (const itk::ExceptionObject & error)
   {
     throw Error("cannot write the transform '" + options.transformOut + "': " + OneLine(error.GetDescription()));
   }
+  try
+  {
+    outputs.WriteText(options.transformOut, text);
+  }
   catch (const std::exception & error)
   {
-    throw Error("cannot write the transform '" + options.transformOut + "': " + OneLine(error.what()) +
-                "; is the disk full or a file size limit reached?");
+    throw Error(OneLine(error.what()) + "; is the disk full or a file size limit reached?");
   }
 }
 } // namespace
@@ -266,7 +264,7 @@ Match(const Options & options, const GroundTruth * truth, const std::string & de
   WriteCheckedMeshFile<Error>(deformed, temporary[0], options.output);
   if (!temporary[1].empty())
   {
-    WriteTransform(transform, temporary[1], options);
+    WriteTransform(transform, options, outputs);
   }
   if (!temporary[3].empty())
   {

@@ -18,7 +18,12 @@
 #ifndef itkRegisterFFDShapeMatchingTransforms_h
 #define itkRegisterFFDShapeMatchingTransforms_h
 
-#include "FFDShapeMatchingExport.h"
+#include "itkObjectFactoryBase.h"
+#include "itkParametricTemplateTransform.h"
+#include "itkTransformFactory.h"
+#include "itkTxtTransformIOFactory.h"
+
+#include <mutex>
 
 /** \file itkRegisterFFDShapeMatchingTransforms.h
  * \brief One call that makes TransformFileReader read the module's transforms.
@@ -35,6 +40,10 @@ namespace itk
  * that type is registered yet, so programs and tests built without UseITK's automatic IO registration read and
  * write .tfm files too. Not to be called concurrently with the creation of transforms or transform IOs.
  *
+ * Inline, so that the module's library itself links none of ITK's transform IO libraries (ITKIOTransformBase,
+ * ITKIOTransformInsightLegacy, ITKTransformFactory: half of a program's start-up when loaded): a program that
+ * calls it links them, as the module's dependencies they are in its link interface.
+ *
  * \code
  * itk::RegisterFFDShapeMatchingTransforms();
  * auto reader = itk::TransformFileReaderTemplate<double>::New();
@@ -45,8 +54,25 @@ namespace itk
  * \sa ParametricTemplateTransform, TransformFactory
  * \ingroup FFDShapeMatching
  */
-FFDShapeMatching_EXPORT void
-RegisterFFDShapeMatchingTransforms();
+inline void
+RegisterFFDShapeMatchingTransforms()
+{
+  static std::once_flag registered;
+  std::call_once(registered, []() {
+    TransformFactory<ParametricTemplateTransform<double, 3>>::RegisterTransform();
+    TransformFactory<ParametricTemplateTransform<float, 3>>::RegisterTransform();
+    // ITK's text transform IO (.tfm, .txt), which programs built without UseITK's factory registration lack.
+    bool haveTextIO = false;
+    for (ObjectFactoryBase * factory : ObjectFactoryBase::GetRegisteredFactories())
+    {
+      haveTextIO = haveTextIO || dynamic_cast<TxtTransformIOFactory *>(factory) != nullptr;
+    }
+    if (!haveTextIO)
+    {
+      TxtTransformIOFactory::RegisterOneFactory();
+    }
+  });
+}
 } // namespace itk
 
 #endif // itkRegisterFFDShapeMatchingTransforms_h

@@ -1,8 +1,8 @@
 # cmake -DPROGRAM=<prefix>/bin/ffd-match -DLIBRARY_DIR=<prefix>/lib ["-DMODULES=<prefix>/lib/a.so;<prefix>/lib/b.so"]
 #   -P CheckInstalledProgram.cmake
 # The installed program runs (--help) and loads the module's library from LIBRARY_DIR, through its RPATH; so do
-# the modules it loads when it needs them (the snapshot's rendering, VTK's formats), which must be installed in
-# LIBRARY_DIR.
+# the modules it loads when it needs them (the snapshot's rendering, VTK's formats, the transform file reader),
+# which must be installed in LIBRARY_DIR.
 set(ENV{LD_LIBRARY_PATH} "")
 execute_process(COMMAND "${PROGRAM}" --help RESULT_VARIABLE _result OUTPUT_VARIABLE _output ERROR_VARIABLE _output)
 if(NOT _result EQUAL 0 OR NOT _output MATCHES "--source")
@@ -30,15 +30,19 @@ foreach(_module IN LISTS MODULES)
   endif()
   execute_process(COMMAND "${_ldd}" "${_module}" RESULT_VARIABLE _result OUTPUT_VARIABLE _libraries
     ERROR_VARIABLE _libraries)
-  string(REGEX MATCH "libFFDShapeMatchingVTKIO[^\n]*=> *([^ \n]*)" _line "${_libraries}")
-  set(_module_dir "")
-  if(CMAKE_MATCH_1)
-    get_filename_component(_module_dir "${CMAKE_MATCH_1}" DIRECTORY)
+  # Every library of the module's (libFFDShapeMatching, libFFDShapeMatchingVTKIO) from the prefix.
+  string(REGEX MATCHALL "libFFDShapeMatching[A-Za-z]*\\.so[^\n]*=> *[^ \n]*" _lines "${_libraries}")
+  if(NOT _result EQUAL 0 OR _libraries MATCHES "not found" OR NOT _lines)
+    message(FATAL_ERROR "${_module} does not load the module's libraries from ${_expected_dir}:\n${_libraries}")
+  endif()
+  foreach(_line IN LISTS _lines)
+    string(REGEX REPLACE ".*=> *" "" _path "${_line}")
+    get_filename_component(_module_dir "${_path}" DIRECTORY)
     get_filename_component(_module_dir "${_module_dir}" REALPATH)
-  endif()
-  if(NOT _result EQUAL 0 OR _libraries MATCHES "not found" OR NOT _module_dir STREQUAL _expected_dir)
-    message(FATAL_ERROR "${_module} does not load libFFDShapeMatchingVTKIO from ${_expected_dir}:\n${_libraries}")
-  endif()
+    if(NOT _module_dir STREQUAL _expected_dir)
+      message(FATAL_ERROR "${_module} loads ${_path}, not from ${_expected_dir}:\n${_libraries}")
+    endif()
+  endforeach()
   get_filename_component(_module_name "${_module}" NAME)
-  message(STATUS "the module ${_module_name} loads libFFDShapeMatchingVTKIO from the prefix too")
+  message(STATUS "the module ${_module_name} loads the module's libraries from the prefix too")
 endforeach()

@@ -23,7 +23,8 @@ set(_ffd_expected_files
 if(FFDShapeMatching_BUILD_APPLICATIONS)
   list(APPEND _ffd_expected_files ${CMAKE_INSTALL_BINDIR}/ffd-match ${CMAKE_INSTALL_BINDIR}/ffd-voxelize
     ${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDSnapshotRendering>
-    ${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDVTKFormatsModule>)
+    ${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDVTKFormatsModule>
+    ${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDTransformFilesModule>)
 endif()
 add_test(NAME FFDShapeMatchingInstall
   COMMAND ${CMAKE_COMMAND} -DBUILD_DIR=${CMAKE_BINARY_DIR} -DPREFIX=${_ffd_prefix} -DCONFIG=$<CONFIG>
@@ -35,7 +36,7 @@ if(FFDShapeMatching_BUILD_APPLICATIONS)
   add_test(NAME FFDShapeMatchingInstalledProgram
     COMMAND ${CMAKE_COMMAND} -DPROGRAM=${_ffd_prefix}/${CMAKE_INSTALL_BINDIR}/ffd-match
       -DLIBRARY_DIR=${_ffd_prefix}/${CMAKE_INSTALL_LIBDIR}
-      "-DMODULES=${_ffd_prefix}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDSnapshotRendering>;${_ffd_prefix}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDVTKFormatsModule>"
+      "-DMODULES=${_ffd_prefix}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDSnapshotRendering>;${_ffd_prefix}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDVTKFormatsModule>;${_ffd_prefix}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDTransformFilesModule>"
       -P ${_ffd_consumer_source}/CheckInstalledProgram.cmake)
   set_tests_properties(FFDShapeMatchingInstalledProgram PROPERTIES FIXTURES_REQUIRED FFDShapeMatchingInstalled
     PASS_REGULAR_EXPRESSION "ffd-match --help ok, libFFDShapeMatching from the prefix")
