@@ -70,6 +70,7 @@ struct Options
   std::optional<unsigned int> iterations;
   std::optional<double>       sampling;
   std::optional<double>       bendingWeight;
+  std::optional<double>       skipGoBelow; // go+cpd: GO left out below this mean distance (voxels)
   std::optional<double>       foldingWeight;
   std::optional<double>       mrfWeight;
   std::optional<bool>         mrfPyramid;

@@ -43,6 +43,7 @@ Usage()
            "                 [--templates FILE.tfm] [--template-split none|control-point|axis]\n"
            "                 [--transform-out FILE.tfm] [--report FILE.json] [--snapshot FILE.png]\n"
            "                 [--initial-transform none|rigid|similarity|affine] [--pose-refinement N]\n"
+           "                 [--skip-go-below VOXELS]\n"
            "                 [--threads N] [--seed S]\n"
            "                 [--levels L] [--iterations N] [--sampling P]\n"
            "                 [--time-limit SECONDS] [--memory-limit MB]\n"
@@ -85,6 +86,12 @@ Usage()
            "  --pose-refinement  with a pose stage and go+cpd: at most N more deformation runs from small\n"
            "                  corrections of the pose (rotations, shifts, scalings), keeping the run whose\n"
            "                  soft correspondences fit best (default 84; 0: the pose stage's pose only)\n"
+           "  --skip-go-below go+cpd without a pose stage: when the target's vertices lie, on average, less\n"
+           "                  than VOXELS voxels from the source surface, GO (and the source's voxelization)\n"
+           "                  is left out and the point-drift stage starts from the identity (default "
+        << defaults.skipGoBelow
+        << ";\n"
+           "                  0: always run GO)\n"
            "  --transform-out write T (target space -> source space) as an ITK transform file\n"
            "  --report        write a JSON report (stage times, metric per iteration, distances, ...)\n"
            "  --snapshot      write a before/after picture (PNG; VTK off-screen rendering needs an X display:\n"
@@ -245,6 +252,15 @@ ParseArguments(int argc, char * argv[])
       {
         throw Error("--sampling must be in (0, 1]");
       }
+    }
+    else if (argument == "--skip-go-below")
+    {
+      const double voxels = Number(argument, value());
+      if (!(voxels >= 0.0) || !std::isfinite(voxels))
+      {
+        throw Error("--skip-go-below must be a finite number >= 0");
+      }
+      options.skipGoBelow = voxels;
     }
     else if (argument == "--bending-weight" || argument == "--folding-weight" || argument == "--mrf-weight")
     {

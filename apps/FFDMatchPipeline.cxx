@@ -208,7 +208,8 @@ GetMatchingDefaults()
            filter->GetBendingEnergyWeight(),
            filter->GetFoldingPenaltyWeight(),
            filter->GetMRFRegularizationWeight(),
-           filter->GetRandomSeed() };
+           filter->GetRandomSeed(),
+           filter->GetVoxelStageDistanceThreshold() };
 }
 
 MatchingFilterType::Pointer
@@ -240,6 +241,7 @@ NewMatchingFilter(const Options & options)
   given(options.iterations, [&](unsigned int v) { filter->SetNumberOfIterations(v); });
   given(options.sampling, [&](double v) { filter->SetSamplingPercentage(v); });
   given(options.bendingWeight, [&](double v) { filter->SetBendingEnergyWeight(v); });
+  given(options.skipGoBelow, [&](double v) { filter->SetVoxelStageDistanceThreshold(v); });
   given(options.foldingWeight, [&](double v) { filter->SetFoldingPenaltyWeight(v); });
   given(options.mrfWeight, [&](double v) { filter->SetMRFRegularizationWeight(v); });
   given(options.mrfPyramid, [&](bool v) { filter->SetMRFUseImagePyramid(v); });

@@ -43,6 +43,7 @@ struct MatchingDefaults
   double       foldingWeight;
   double       mrfWeight;
   int          seed;
+  double       skipGoBelow;
 };
 
 MatchingDefaults

@@ -103,6 +103,8 @@ MatchReportJson(const Options & options, const MatchRecord & r)
   report << "],\n"
          << "  \"stop_condition\": " << JsonString(r.stopCondition) << ",\n"
          << "  \"time_limit_reached\": " << (r.timeLimitReached ? "true" : "false") << ",\n"
+         << "  \"voxel_stage_skipped\": " << (r.voxelStageSkipped ? "true" : "false") << ",\n"
+         << "  \"initial_mean_distance\": " << JsonNumber(r.initialMeanDistance) << ",\n"
          << "  \"distance_before\": { \"mean_directed\": " << JsonNumber(r.meanDistanceBefore)
          << ", \"hausdorff_directed\": " << JsonNumber(r.hausdorffBefore) << " },\n"
          << "  \"distance_after\": { \"mean_directed\": " << JsonNumber(r.meanDistanceAfter)

@@ -47,6 +47,8 @@ struct MatchRecord
   std::string         stopCondition;
   std::vector<double> metricValues;
   bool                timeLimitReached{ false };
+  bool                voxelStageSkipped{ false };
+  double              initialMeanDistance{ -1.0 }; // what the voxel stage's skip was decided on; -1: not measured
   // The settings in effect (the filter's).
   unsigned int grid{ 0 };
   double       voxelSize{ 0.0 };

@@ -214,6 +214,13 @@ Match(const Options & options, const GroundTruth * truth, const std::string & de
                 << matching->GetPoseRefinementTime() << " s)" << std::endl;
     }
   }
+  if (matching->GetVoxelStageSkipped())
+  {
+    std::cerr << "ffd-match: register: GO left out: the target lies " << std::fixed << std::setprecision(3)
+              << matching->GetInitialMeanDistance() << " mm from the source surface on average, under "
+              << matching->GetVoxelStageDistanceThreshold()
+              << " voxels (--skip-go-below); the point-drift stage starts from the identity" << std::endl;
+  }
   std::cerr << "ffd-match: voxelize: " << std::fixed << std::setprecision(2) << matching->GetVoxelizationTime()
             << " s; register: " << matching->GetMetricValues().size() << " iterations, " << std::fixed
             << std::setprecision(2) << matching->GetRegistrationTime() << " s"
@@ -225,10 +232,17 @@ Match(const Options & options, const GroundTruth * truth, const std::string & de
 
   // Score: target vertices to the source surface, before and after; Jacobian of T over the target image.
   start = ClockType::now();
-  auto before = SurfaceDistanceType::New();
-  before->SetSourceMesh(target);
-  before->SetTargetMesh(source);
-  before->Compute();
+  // The distances before: those the filter measured for its voxel stage's decision (the same target and source
+  // without a pose stage), or computed here.
+  SurfaceDistanceType::ConstPointer before = matching->GetInitialDistances();
+  if (before.IsNull() || posed)
+  {
+    auto computed = SurfaceDistanceType::New();
+    computed->SetSourceMesh(target);
+    computed->SetTargetMesh(source);
+    computed->Compute();
+    before = computed;
+  }
   auto after = SurfaceDistanceType::New();
   after->SetSourceMesh(target);
   after->SetTargetMesh(deformed);
@@ -291,6 +305,8 @@ Match(const Options & options, const GroundTruth * truth, const std::string & de
     record.stopCondition = matching->GetStopConditionDescription();
     record.metricValues = matching->GetMetricValues();
     record.timeLimitReached = matching->GetTimeLimitReached();
+    record.voxelStageSkipped = matching->GetVoxelStageSkipped();
+    record.initialMeanDistance = matching->GetInitialMeanDistance();
     record.grid = matching->GetNumberOfControlPointsPerAxis();
     record.voxelSize = matching->GetVoxelSize();
     record.voxelization = Enums::VoxelizationToString(matching->GetVoxelization());

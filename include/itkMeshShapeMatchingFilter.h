@@ -29,6 +29,7 @@
 #include "itkImage.h"
 #include "itkMeshOpenBoundaryMaskImageFilter.h"
 #include "itkMeshPoseRegistrationMethod.h"
+#include "itkMeshSurfaceDistanceCalculator.h"
 #include "itkMeshToMeshFilter.h"
 #include "itkParametricTemplateRegistrationMethod.h"
 #include "itkParametricTemplateTransform.h"
@@ -131,6 +132,7 @@ public:
   using VoxelizationEnum = FFDShapeMatchingEnums::Voxelization;
   using MRFSolverEnum = MRFLabelingSolverEnums::Algorithm;
   using TransformType = Transform<double, Dimension, Dimension>;
+  using DistanceCalculatorType = MeshSurfaceDistanceCalculator<TMesh>;
   using DecoratedTransformType = DataObjectDecorator<TransformType>;
   using ParametricTransformType = ParametricTemplateTransform<double, Dimension>;
   using VoxelizerType = TriangleMeshToVoxelImageFilter<MeshType, ImageType>;
@@ -212,6 +214,30 @@ public:
    * results as the whole source grid (benchmark/PEERS_MESH.md). A very large value voxelizes the whole source. */
   itkSetMacro(SourceGridMargin, double);
   itkGetConstMacro(SourceGridMargin, double);
+
+  /** Method GOCPD without a pose stage: the voxel stage (GO, and the source's voxelization) runs only when the
+   * target's vertices lie, on average, at least this many voxels (VoxelSize) from the source surface; when the
+   * shapes are closer, GO on those voxels has nothing to resolve and the CPD stage starts from the identity on GO's
+   * control grid. On the benchmark's cases (target 0.18-0.20 mm from the source in the paper regime, 1.0-1.1 mm in
+   * the smooth one) GO's start and the identity gave the same CPD errors within 0.001 mm in the paper regime
+   * (benchmark/PEERS_MESH.md). Default 0.5; 0 always runs GO. */
+  itkSetClampMacro(VoxelStageDistanceThreshold, double, 0.0, NumericTraits<double>::max());
+  itkGetConstMacro(VoxelStageDistanceThreshold, double);
+
+  /** Whether the last Update() left the voxel stage out (VoxelStageDistanceThreshold), and the target's mean
+   * distance to the source surface it was decided on (mesh units; -1 when it was not measured: other methods, a
+   * pose stage, or a threshold of 0). */
+  itkGetConstMacro(VoxelStageSkipped, bool);
+  itkGetConstMacro(InitialMeanDistance, double);
+
+  /** The distances from the target's vertices to the source surface that the voxel stage's decision measured (the
+   * calculator, after Compute(): mean, maximum, per vertex), or null when it was not measured; a program reporting
+   * them need not compute them again. */
+  const DistanceCalculatorType *
+  GetInitialDistances() const
+  {
+    return m_InitialDistances.GetPointer();
+  }
 
   /** Control points per axis of the final B-spline grid (ITK mesh size minus 3). Default: 20. */
   itkSetClampMacro(NumberOfControlPointsPerAxis, unsigned int, 4, 1000);
@@ -405,7 +431,16 @@ private:
 
   /** Voxelizes both meshes and builds the metric mask. */
   void
-  VoxelizeMeshes();
+  VoxelizeMeshes(bool voxelizeSource = true);
+
+  /** Method GOCPD without a pose stage: measures the target's mean distance to the source surface
+   * (InitialMeanDistance) and returns whether it is under VoxelStageDistanceThreshold voxels. */
+  bool
+  DecideToSkipVoxelStage();
+
+  /** The identity on the control grid GO's last level has: CPD's start when the voxel stage is skipped. */
+  const DecoratedTransformType *
+  MakeIdentityOnVoxelStageGrid();
 
   /** Limits the source voxelizer's grid (set from the source's bounds) to the target's grid grown by the margin. */
   void
@@ -450,6 +485,9 @@ private:
   double               m_VoxelSize{ 1.0 };
   double               m_BandWidthInVoxels{ 2.0 };
   double               m_SourceGridMargin{ -1.0 };
+  double               m_VoxelStageDistanceThreshold{ 0.5 };
+  bool                 m_VoxelStageSkipped{ false };
+  double               m_InitialMeanDistance{ -1.0 };
   unsigned int         m_NumberOfControlPointsPerAxis{ 20 };
   unsigned int         m_NumberOfLevels{ 2 };
   unsigned int         m_NumberOfIterations{ 0 };
@@ -486,6 +524,8 @@ private:
   typename TransformType::ConstPointer          m_PoseTransform;
   typename DecoratedTransformType::Pointer      m_PoseTransformInput;
   typename DecoratedTransformType::Pointer      m_ComposedTransform;
+  typename DecoratedTransformType::Pointer      m_IdentityStart; // CPD's start when the voxel stage is skipped
+  typename DistanceCalculatorType::Pointer      m_InitialDistances;
   typename DecoratedTransformType::ConstPointer m_DeformationTransform;
   typename VoxelizerType::Pointer               m_TargetVoxelizer;
   typename VoxelizerType::Pointer               m_SourceVoxelizer;

@@ -19,7 +19,9 @@
 #define itkMeshShapeMatchingFilter_hxx
 
 #include "itkMeshShapeMatchingFilter.h"
+#include "itkBSplineTransformInitializer.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
+#include "itkMeshSurfaceDistanceCalculator.h"
 #include "itkProgressAccumulator.h"
 
 #include <algorithm>
@@ -47,6 +49,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::MeshShapeMatchingFilter()
   , m_PoseTransformFilter(MeshTransformFilterType::New())
   , m_PoseTransformInput(DecoratedTransformType::New())
   , m_ComposedTransform(DecoratedTransformType::New())
+  , m_IdentityStart(DecoratedTransformType::New())
   , m_TargetVoxelizer(VoxelizerType::New())
   , m_SourceVoxelizer(VoxelizerType::New())
   , m_BandMaskVoxelizer(MaskVoxelizerType::New())
@@ -194,9 +197,11 @@ MeshShapeMatchingFilter<TMesh, TImage>::Deform(double timeLimit) -> const Decora
   const bool refineByPar = m_Method == MethodEnum::GOPar || m_Method == MethodEnum::MRFPar;
   const bool refine = refineByPar || m_Method == MethodEnum::GOCPD;
 
-  // Voxelize (every method: the target image is also the grid on which T is scored).
-  auto start = ClockType::now();
-  this->VoxelizeMeshes();
+  // Voxelize (every method: the target image is also the grid on which T is scored; the source only when a voxel
+  // stage runs).
+  auto       start = ClockType::now();
+  const bool skipVoxelStage = this->DecideToSkipVoxelStage();
+  this->VoxelizeMeshes(!skipVoxelStage);
   m_VoxelizationTime = detail::SecondsSince(start);
 
   // Register: T maps target (fixed) space to source (moving) space.
@@ -208,8 +213,11 @@ MeshShapeMatchingFilter<TMesh, TImage>::Deform(double timeLimit) -> const Decora
   }
   else
   {
-    transform = this->RegisterVoxels(
-      m_Method == MethodEnum::MRF || m_Method == MethodEnum::MRFPar ? MethodEnum::MRF : MethodEnum::GO, timeLimit);
+    transform = skipVoxelStage
+                  ? this->MakeIdentityOnVoxelStageGrid()
+                  : this->RegisterVoxels(m_Method == MethodEnum::MRF || m_Method == MethodEnum::MRFPar ? MethodEnum::MRF
+                                                                                                       : MethodEnum::GO,
+                                         timeLimit);
     const double remaining = timeLimit - detail::SecondsSince(start);
     if (refine && timeLimit > 0.0 && remaining <= 0.0)
     {
@@ -350,8 +358,59 @@ MeshShapeMatchingFilter<TMesh, TImage>::RefinePose(const DecoratedTransformType 
 }
 
 template <typename TMesh, typename TImage>
+bool
+MeshShapeMatchingFilter<TMesh, TImage>::DecideToSkipVoxelStage()
+{
+  m_VoxelStageSkipped = false;
+  m_InitialMeanDistance = -1.0;
+  m_InitialDistances = nullptr;
+  if (m_Method != MethodEnum::GOCPD || m_InitialTransform != InitialTransformEnum::None ||
+      !(m_VoxelStageDistanceThreshold > 0.0))
+  {
+    return false;
+  }
+  auto distance = DistanceCalculatorType::New();
+  distance->SetSourceMesh(this->GetMatchingTargetMesh());
+  distance->SetTargetMesh(this->GetSourceMesh());
+  distance->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
+  distance->Compute();
+  m_InitialMeanDistance = distance->GetMeanDistance();
+  m_InitialDistances = distance;
+  m_VoxelStageSkipped = m_InitialMeanDistance < m_VoxelStageDistanceThreshold * m_VoxelSize;
+  return m_VoxelStageSkipped;
+}
+
+template <typename TMesh, typename TImage>
+auto
+MeshShapeMatchingFilter<TMesh, TImage>::MakeIdentityOnVoxelStageGrid() -> const DecoratedTransformType *
+{
+  // The grid GO's last level has: its initializer's domain (the target image's) at the final mesh size.
+  using BSplineType = typename GORegistrationType::BSplineTransformType;
+  using InitializerType = BSplineTransformInitializer<BSplineType, ImageType>;
+  auto                               bspline = BSplineType::New();
+  auto                               initializer = InitializerType::New();
+  typename BSplineType::MeshSizeType meshSize;
+  meshSize.Fill(
+    GORegistrationType::ComputeMeshSizeAtLevel(m_NumberOfControlPointsPerAxis, m_NumberOfLevels, m_NumberOfLevels - 1));
+  initializer->SetTransform(bspline);
+  initializer->SetImage(m_TargetVoxelizer->GetOutput());
+  initializer->SetTransformDomainMeshSize(meshSize);
+  initializer->InitializeTransform();
+  bspline->SetIdentity();
+  m_IdentityStart->Set(bspline);
+  m_MetricValues.clear();
+  m_MetricName.clear();
+  std::ostringstream stop;
+  stop << "b-spline: not run (the target lies " << m_InitialMeanDistance
+       << " from the source surface on average, under VoxelStageDistanceThreshold = " << m_VoxelStageDistanceThreshold
+       << " voxels): the point-drift stage starts from the identity";
+  m_StopConditionDescription = stop.str();
+  return m_IdentityStart;
+}
+
+template <typename TMesh, typename TImage>
 void
-MeshShapeMatchingFilter<TMesh, TImage>::VoxelizeMeshes()
+MeshShapeMatchingFilter<TMesh, TImage>::VoxelizeMeshes(bool voxelizeSource)
 {
   const MeshType * source = this->GetSourceMesh();
   const MeshType * target = this->GetMatchingTargetMesh();
@@ -376,6 +435,10 @@ MeshShapeMatchingFilter<TMesh, TImage>::VoxelizeMeshes()
   for (VoxelizerType * voxelizer : { m_TargetVoxelizer.GetPointer(), m_SourceVoxelizer.GetPointer() })
   {
     const bool isTarget = voxelizer == m_TargetVoxelizer.GetPointer();
+    if (!isTarget && !voxelizeSource)
+    {
+      continue;
+    }
     voxelizer->SetInput(isTarget ? target : source);
     voxelizer->SetMode(mode);
     voxelizer->SetBandWidth(bandWidth);
@@ -659,7 +722,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::RecordMeshStage(bool                    
                                                         const std::string &         metricName,
                                                         const std::string &         stopCondition)
 {
-  const std::string voxelName = afterVoxelStage ? m_MetricName + ", then " : std::string();
+  const std::string voxelName = afterVoxelStage && !m_MetricName.empty() ? m_MetricName + ", then " : std::string();
   const std::string voxelStop = afterVoxelStage ? m_StopConditionDescription : std::string();
   m_MetricValues = metricValues;
   m_MetricName = voxelName + metricName;
@@ -826,6 +889,9 @@ MeshShapeMatchingFilter<TMesh, TImage>::PrintSelf(std::ostream & os, Indent inde
   os << indent << "RandomSeed: " << m_RandomSeed << std::endl;
   os << indent << "InverseTolerance: " << m_InverseTolerance << std::endl;
   os << indent << "PoseRefinementRuns: " << m_PoseRefinementRuns << std::endl;
+  os << indent << "VoxelStageDistanceThreshold: " << m_VoxelStageDistanceThreshold << std::endl;
+  os << indent << "VoxelStageSkipped: " << m_VoxelStageSkipped << std::endl;
+  os << indent << "InitialMeanDistance: " << m_InitialMeanDistance << std::endl;
   os << indent << "PoseRefinementRotationStep: " << m_PoseRefinementRotationStep << std::endl;
   os << indent << "PoseRefinementShiftStep: " << m_PoseRefinementShiftStep << std::endl;
   os << indent << "PoseRefinementScaleStep: " << m_PoseRefinementScaleStep << std::endl;

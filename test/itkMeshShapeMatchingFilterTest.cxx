@@ -226,6 +226,51 @@ itkMeshShapeMatchingFilterTest(int, char *[])
     progressEvents = 0;
   }
 
+  // GOCPD leaves its voxel stage out when the target already lies within VoxelStageDistanceThreshold voxels
+  // (default 0.5) of the source surface on average: the decision's distance is the target's mean directed distance
+  // to the source (the loop's last run, GOCPD at 1.5 mm voxels, decided on startDistance).
+  ITK_TEST_EXPECT_EQUAL(filter->GetVoxelStageDistanceThreshold(), 0.5);
+  ITK_TEST_EXPECT_TRUE(std::abs(filter->GetInitialMeanDistance() - startDistance) < 1e-9);
+  ITK_TEST_EXPECT_EQUAL(filter->GetVoxelStageSkipped(), startDistance < 0.5 * 1.5);
+  {
+    // A target a fifth as deformed lies under 0.75 mm from the source: GO and the source's voxelization are left
+    // out, the point-drift stage starts from the identity on GO's grid and still matches the cap; with a
+    // threshold of 0 GO runs, and the identity's start is about as good as GO's.
+    itk::PointCorrespondenceErrorCalculator<MeshType>::CorrespondenceContainerType closeTruth;
+    const MeshType::Pointer close = MakeDeformedPatch(source, -5.0, closeTruth, 0.2);
+    const double            closeStart = MeanTrueError(source, close, closeTruth);
+    const double            closeDistance = MeanDistance(close, source);
+    auto                    closeFilter = FilterType::New();
+    closeFilter->SetSourceMesh(source);
+    closeFilter->SetTargetMesh(close);
+    closeFilter->SetNumberOfControlPointsPerAxis(10);
+    closeFilter->SetVoxelSize(1.5);
+    ITK_TRY_EXPECT_NO_EXCEPTION(closeFilter->Update());
+    const double skippedError = MeanTrueError(closeFilter->GetOutput(), close, closeTruth);
+    std::cout << "close target: mean distance " << closeDistance << " mm, true error " << closeStart << " -> "
+              << skippedError << " mm without GO; " << closeFilter->GetStopConditionDescription() << std::endl;
+    ITK_TEST_EXPECT_TRUE(closeDistance < 0.75);
+    ITK_TEST_EXPECT_TRUE(closeFilter->GetVoxelStageSkipped());
+    ITK_TEST_EXPECT_TRUE(std::abs(closeFilter->GetInitialMeanDistance() - closeDistance) < 1e-9);
+    ITK_TEST_EXPECT_TRUE(closeFilter->GetStopConditionDescription().find("b-spline: not run") != std::string::npos);
+    ITK_TEST_EXPECT_TRUE(!closeFilter->GetMetricValues().empty());
+    ITK_TEST_EXPECT_EQUAL(
+      closeFilter->GetModifiableSourceVoxelizer()->GetOutput()->GetBufferedRegion().GetNumberOfPixels(), 0u);
+    ITK_TEST_EXPECT_TRUE(
+      closeFilter->GetModifiableTargetVoxelizer()->GetOutput()->GetBufferedRegion().GetNumberOfPixels() > 0u);
+    ITK_TEST_EXPECT_TRUE(skippedError < 0.5 * closeStart);
+    closeFilter->SetVoxelStageDistanceThreshold(-1.0); // clamped to 0: GO always runs
+    ITK_TEST_EXPECT_EQUAL(closeFilter->GetVoxelStageDistanceThreshold(), 0.0);
+    ITK_TRY_EXPECT_NO_EXCEPTION(closeFilter->Update());
+    const double withGOError = MeanTrueError(closeFilter->GetOutput(), close, closeTruth);
+    std::cout << "close target with GO: true error " << withGOError << " mm" << std::endl;
+    ITK_TEST_EXPECT_TRUE(!closeFilter->GetVoxelStageSkipped());
+    ITK_TEST_EXPECT_EQUAL(closeFilter->GetInitialMeanDistance(), -1.0);
+    ITK_TEST_EXPECT_TRUE(
+      closeFilter->GetModifiableSourceVoxelizer()->GetOutput()->GetBufferedRegion().GetNumberOfPixels() > 0u);
+    ITK_TEST_EXPECT_TRUE(skippedError < 1.2 * withGOError + 0.01);
+  }
+
   // The source's grid: by default the target's grid grown by the larger of 10 voxels and 15 % of its largest side;
   // with a 2 mm margin, only the source's voxels within 2 mm of the target's grid (plus the rounding to whole
   // voxels). Within it, the voxels within the margin plus two voxels (L-infinity) of the target's band voxels are
