@@ -425,6 +425,10 @@ CheckPLYFile(const std::string & fileName)
       {
         return where + "an element needs a name and a count";
       }
+      if (words.size() != 3)
+      {
+        return where + "an element line needs a name and a count, and nothing else";
+      }
       // VTK counts elements in an int.
       if (count.size() > 10 || std::stoull(count) > static_cast<unsigned long long>(std::numeric_limits<int>::max()))
       {
@@ -483,6 +487,14 @@ CheckPLYFile(const std::string & fileName)
   if (format.empty())
   {
     return "the PLY header has no format line";
+  }
+  // VTK 9.1's PLY code frees the property list of an element that has none (found by fuzzing).
+  for (const PLYElement & element : elements)
+  {
+    if (element.Properties.empty())
+    {
+      return "the PLY element " + element.Name + " has no property";
+    }
   }
   const auto vertexElement = FindPLYElement(elements, "vertex");
   const auto faceElement = FindPLYElement(elements, "face");
