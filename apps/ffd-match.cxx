@@ -235,7 +235,7 @@ Match(const Options & options, const GroundTruth * truth, const std::string & de
   // The distances before: those the filter measured for its voxel stage's decision (the same target and source
   // without a pose stage), or computed here.
   SurfaceDistanceType::ConstPointer before = matching->GetInitialDistances();
-  if (before.IsNull() || posed)
+  if (before.IsNull())
   {
     auto computed = SurfaceDistanceType::New();
     computed->SetSourceMesh(target);

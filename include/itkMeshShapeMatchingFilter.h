@@ -228,7 +228,11 @@ public:
    * distance to the source surface it was decided on (mesh units; -1 when it was not measured: other methods, a
    * pose stage, or a threshold of 0). */
   itkGetConstMacro(VoxelStageSkipped, bool);
-  itkGetConstMacro(InitialMeanDistance, double);
+  double
+  GetInitialMeanDistance() const
+  {
+    return m_InitialDistances ? m_InitialDistances->GetMeanDistance() : -1.0;
+  }
 
   /** The distances from the target's vertices to the source surface that the voxel stage's decision measured (the
    * calculator, after Compute(): mean, maximum, per vertex), or null when it was not measured; a program reporting
@@ -487,7 +491,6 @@ private:
   double               m_SourceGridMargin{ -1.0 };
   double               m_VoxelStageDistanceThreshold{ 0.5 };
   bool                 m_VoxelStageSkipped{ false };
-  double               m_InitialMeanDistance{ -1.0 };
   unsigned int         m_NumberOfControlPointsPerAxis{ 20 };
   unsigned int         m_NumberOfLevels{ 2 };
   unsigned int         m_NumberOfIterations{ 0 };

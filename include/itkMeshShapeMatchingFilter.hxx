@@ -362,7 +362,6 @@ bool
 MeshShapeMatchingFilter<TMesh, TImage>::DecideToSkipVoxelStage()
 {
   m_VoxelStageSkipped = false;
-  m_InitialMeanDistance = -1.0;
   m_InitialDistances = nullptr;
   if (m_Method != MethodEnum::GOCPD || m_InitialTransform != InitialTransformEnum::None ||
       !(m_VoxelStageDistanceThreshold > 0.0))
@@ -374,9 +373,8 @@ MeshShapeMatchingFilter<TMesh, TImage>::DecideToSkipVoxelStage()
   distance->SetTargetMesh(this->GetSourceMesh());
   distance->SetNumberOfWorkUnits(this->GetNumberOfWorkUnits());
   distance->Compute();
-  m_InitialMeanDistance = distance->GetMeanDistance();
   m_InitialDistances = distance;
-  m_VoxelStageSkipped = m_InitialMeanDistance < m_VoxelStageDistanceThreshold * m_VoxelSize;
+  m_VoxelStageSkipped = distance->GetMeanDistance() < m_VoxelStageDistanceThreshold * m_VoxelSize;
   return m_VoxelStageSkipped;
 }
 
@@ -401,7 +399,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::MakeIdentityOnVoxelStageGrid() -> const 
   m_MetricValues.clear();
   m_MetricName.clear();
   std::ostringstream stop;
-  stop << "b-spline: not run (the target lies " << m_InitialMeanDistance
+  stop << "b-spline: not run (the target lies " << this->GetInitialMeanDistance()
        << " from the source surface on average, under VoxelStageDistanceThreshold = " << m_VoxelStageDistanceThreshold
        << " voxels): the point-drift stage starts from the identity";
   m_StopConditionDescription = stop.str();
@@ -891,7 +889,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::PrintSelf(std::ostream & os, Indent inde
   os << indent << "PoseRefinementRuns: " << m_PoseRefinementRuns << std::endl;
   os << indent << "VoxelStageDistanceThreshold: " << m_VoxelStageDistanceThreshold << std::endl;
   os << indent << "VoxelStageSkipped: " << m_VoxelStageSkipped << std::endl;
-  os << indent << "InitialMeanDistance: " << m_InitialMeanDistance << std::endl;
+  os << indent << "InitialMeanDistance: " << this->GetInitialMeanDistance() << std::endl;
   os << indent << "PoseRefinementRotationStep: " << m_PoseRefinementRotationStep << std::endl;
   os << indent << "PoseRefinementShiftStep: " << m_PoseRefinementShiftStep << std::endl;
   os << indent << "PoseRefinementScaleStep: " << m_PoseRefinementScaleStep << std::endl;
