@@ -232,22 +232,22 @@ Match(const Options & options, const GroundTruth * truth, const std::string & de
 
   // Score: target vertices to the source surface, before and after; Jacobian of T over the target image.
   start = ClockType::now();
+  const auto distancesTo = [&target](const MeshType * surface) {
+    auto calculator = SurfaceDistanceType::New();
+    calculator->SetSourceMesh(target);
+    calculator->SetTargetMesh(surface);
+    calculator->Compute();
+    return calculator;
+  };
   // The distances before: those the filter measured for its voxel stage's decision (the same target and source
   // without a pose stage), or computed here.
   SurfaceDistanceType::ConstPointer before = matching->GetInitialDistances();
   if (before.IsNull())
   {
-    auto computed = SurfaceDistanceType::New();
-    computed->SetSourceMesh(target);
-    computed->SetTargetMesh(source);
-    computed->Compute();
-    before = computed;
+    before = distancesTo(source);
   }
-  auto after = SurfaceDistanceType::New();
-  after->SetSourceMesh(target);
-  after->SetTargetMesh(deformed);
-  after->Compute();
-  auto jacobian = JacobianFilterType::New();
+  const auto after = distancesTo(deformed);
+  auto       jacobian = JacobianFilterType::New();
   // The deformation's Jacobian (B, on the grid of the target as the deformation stage saw it, the posed target):
   // without a pose stage that is T itself; with one, T's is B's times the pose's determinant.
   jacobian->SetTransformInput(matching->GetDeformationTransformOutput());

@@ -21,7 +21,6 @@
 #include "itkMeshShapeMatchingFilter.h"
 #include "itkBSplineTransformInitializer.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
-#include "itkMeshSurfaceDistanceCalculator.h"
 #include "itkProgressAccumulator.h"
 
 #include <algorithm>
