@@ -1,15 +1,28 @@
 # Runs PROGRAM MESH OUTPUT ARGUMENTS... and checks that it fails cleanly: a non-zero exit code,
 # exactly one line on stderr, and no OUTPUT file left behind. The stderr line is printed for the
-# test's PASS_REGULAR_EXPRESSION. With -DAFTER_WORK=ON the failure comes after the program's work: its progress
-# lines come first, and the last line, the error, is the one printed (the others are not).
+# test's PASS_REGULAR_EXPRESSION. With -DAFTER_WORK=ON the failure comes after some of the program's work: its
+# progress lines ("<program>: <stage>: ...", none of them an error) come first, and the last line, the error, is the
+# one printed (the others are not).
 file(REMOVE "${OUTPUT}")
 execute_process(COMMAND "${PROGRAM}" "${MESH}" "${OUTPUT}" ${ARGUMENTS}
   RESULT_VARIABLE _result ERROR_VARIABLE _error OUTPUT_VARIABLE _output)
 string(STRIP "${_error}" _stripped)
 if(AFTER_WORK)
   string(FIND "${_stripped}" "\n" _last_newline REVERSE)
-  math(EXPR _last_newline "${_last_newline} + 1")
-  string(SUBSTRING "${_stripped}" ${_last_newline} -1 _stripped)
+  if(_last_newline GREATER_EQUAL 0)
+    string(SUBSTRING "${_stripped}" 0 ${_last_newline} _progress)
+    math(EXPR _last_newline "${_last_newline} + 1")
+    string(SUBSTRING "${_stripped}" ${_last_newline} -1 _stripped)
+    get_filename_component(_program_name "${PROGRAM}" NAME)
+    string(REPLACE ";" "," _progress "${_progress}") # (a CMake list separator; the lines are only looked at)
+    string(REPLACE "\n" ";" _progress_lines "${_progress}")
+    foreach(_line IN LISTS _progress_lines)
+      if(NOT _line MATCHES "^${_program_name}: [a-z][^:]*: " OR _line MATCHES "^${_program_name}: error: ")
+        message("${_stripped}")
+        message(FATAL_ERROR "expected progress lines before the error, got '${_line}'")
+      endif()
+    endforeach()
+  endif()
   set(_error "${_stripped}")
 endif()
 message("${_error}")

@@ -615,7 +615,8 @@ ParametricTemplateTransform<TParametersValueType, NDimensions>::SetFixedParamete
       itkExceptionMacro(<< "Fixed parameters end before the " << what);
     }
     const double value = fixedParameters[position++];
-    if (!(value >= 0.0) || value != std::floor(value))
+    // Every counted item takes at least one of the values left, so a larger count is bad (and not converted).
+    if (!(value >= 0.0) || value != std::floor(value) || value > static_cast<double>(size - position))
     {
       itkExceptionMacro(<< "Bad count " << value << " of the " << what << " in the fixed parameters");
     }

@@ -493,6 +493,16 @@ itkParametricTemplateTransformTest(int argc, char * argv[])
   auto badIndex = fixed;
   badIndex[TransformType::NumberOfGridFixedParameters + 3] = 1e9; // first template's first index
   ITK_TRY_EXPECT_EXCEPTION(split->SetFixedParameters(badIndex));
+  // Counts larger than the values left (found by fuzzing: 1e40 does not fit a size type).
+  for (const double count : { 1e40, 1e9 })
+  {
+    auto badCount = fixed;
+    badCount[TransformType::NumberOfGridFixedParameters] = count; // number of templates
+    ITK_TRY_EXPECT_EXCEPTION(split->SetFixedParameters(badCount));
+    badCount = fixed;
+    badCount[TransformType::NumberOfGridFixedParameters + 1] = count; // entries of the base
+    ITK_TRY_EXPECT_EXCEPTION(split->SetFixedParameters(badCount));
+  }
   ITK_TEST_EXPECT_TRUE(split->GetFixedParameters() == fixed); // unchanged by the failures
   TransformType::FixedParametersType tooFew(5);
   ITK_TRY_EXPECT_EXCEPTION(split->SetFixedParameters(tooFew));
