@@ -24,6 +24,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <iomanip>
 #include <iostream>
 #include <sstream>
 
@@ -139,7 +140,9 @@ WholeNumber(const std::string & option, const std::string & text, double minimum
   if (value != std::floor(value) || value < minimum || value > maximum)
   {
     std::ostringstream message;
-    message << option << " must be a whole number in [" << minimum << ", " << maximum << "], not '" << text << "'";
+    // (Whole bounds in full: 2147483647, not 2.14748e+09.)
+    message << std::setprecision(15) << option << " must be a whole number in [" << minimum << ", " << maximum
+            << "], not '" << text << "'";
     throw Error(message.str());
   }
   return static_cast<unsigned int>(value);

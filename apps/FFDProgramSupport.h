@@ -74,25 +74,27 @@ ParseNumber(const std::string & option, const std::string & text)
 
 /** The first line of \c text, without trailing blanks: ITK's exception descriptions span several lines. The
  * "ITK ERROR: ClassName(0x...): " and "itk::ERROR: ClassName(0x...): " prefixes of ITK's messages (an object address
- * means nothing to a user) are dropped. A first line that ends in ':' ("Error reading x.nrrd:") is followed by the
- * last non-empty line, the innermost reason of a library's error chain, without its "[nrrd] " tag. */
+ * means nothing to a user) are dropped, also inside the line. A first line that ends in ':' ("Error reading x.nrrd:")
+ * is followed by the last non-empty line, the innermost reason of a library's error chain, without its "[nrrd] " tag.
+ */
 inline std::string
 OneLine(const std::string & text)
 {
   std::string line = text.substr(0, text.find('\n'));
+  // Wherever the prefixes stand: a library error that wraps another ("registration failed: ITK ERROR: ...") repeats
+  // them inside the line.
   for (const std::string itkPrefix : { "ITK ERROR: ", "itk::ERROR: " })
   {
-    if (line.compare(0, itkPrefix.size(), itkPrefix) != 0)
+    for (std::size_t at = line.find(itkPrefix); at != std::string::npos; at = line.find(itkPrefix, at))
     {
-      continue;
-    }
-    line.erase(0, itkPrefix.size());
-    const std::size_t open = line.find("(0x");
-    const std::size_t close = line.find("): ");
-    if (open != std::string::npos && close != std::string::npos && open < close &&
-        line.find(' ') > open) // "ClassName(0x...): " and not a sentence that happens to contain "(0x"
-    {
-      line.erase(0, close + 3);
+      line.erase(at, itkPrefix.size());
+      const std::size_t open = line.find("(0x", at);
+      const std::size_t close = line.find("): ", at);
+      if (open != std::string::npos && close != std::string::npos && open < close &&
+          line.find(' ', at) > open) // "ClassName(0x...): " and not a sentence that happens to contain "(0x"
+      {
+        line.erase(at, close + 3 - at);
+      }
     }
   }
   const auto trimmed = [](std::string value) {
