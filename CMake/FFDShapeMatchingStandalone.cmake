@@ -126,8 +126,8 @@ if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/src/CMakeLists.txt)
   add_subdirectory(src)
 endif()
 if(TARGET ${itk-module})
-  # The CMake package: find_package(FFDShapeMatching) + FFDShapeMatching::FFDShapeMatching (README, "Install and
-  # use from your project"). The configuration finds ITK (the module's DEPENDS), VTK and Eigen again.
+  # The CMake package: find_package(FFDShapeMatching) + FFDShapeMatching::FFDShapeMatching (docs/building.md, "Install
+  # and use from your project"). The configuration finds ITK (the module's DEPENDS), VTK and Eigen again.
   include(CMakePackageConfigHelpers)
   set(_ffd_package_dir ${CMAKE_INSTALL_LIBDIR}/cmake/${itk-module})
   install(EXPORT ${itk-module}Targets NAMESPACE ${itk-module}:: DESTINATION ${_ffd_package_dir})

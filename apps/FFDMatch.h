@@ -23,8 +23,11 @@
 // (FFDMatchPipeline.cxx), scoring and the JSON report (FFDMatchReport.cxx), the demo (FFDMatchDemo.cxx), and the
 // run itself (ffd-match.cxx).
 
+#include "itkFFDShapeMatchingEnums.h"
 #include "itkImage.h"
+#include "itkMRFLabelingSolver.h"
 #include "itkMesh.h"
+#include "itkParametricTemplateTransform.h"
 #include "itkPointCorrespondenceErrorCalculator.h"
 
 #include <optional>
@@ -44,41 +47,53 @@ struct Error : std::runtime_error
   using std::runtime_error::runtime_error;
 };
 
-/** The command line of ffd-match. The settings of the method are optional: those not given keep the defaults of
- * itk::MeshShapeMatchingFilter, which are the module's tuned settings. */
+/** The command line of ffd-match, parsed: the methods and modes as the library's enums. The settings of the method
+ * are optional: those not given keep the defaults of itk::MeshShapeMatchingFilter, which are the module's tuned
+ * settings (written there once; the usage text prints them from the filter). */
 struct Options
 {
-  std::string source;
-  std::string target;
-  std::string method;
-  std::string output;
-  std::string transformOut;
-  std::string report;
-  std::string snapshot;
-  std::string templates;
-  std::string templateSplit{ "control-point" };
+  using Enums = itk::FFDShapeMatchingEnums;
+  using TemplateSplitEnum = itk::ParametricTemplateTransformEnums::TemplateSplit;
+  using MRFSolverEnum = itk::MRFLabelingSolverEnums::Algorithm;
+
+  std::string       source;
+  std::string       target;
+  std::string       output;
+  std::string       transformOut;
+  std::string       report;
+  std::string       snapshot;
+  std::string       templates;
+  TemplateSplitEnum templateSplit{ TemplateSplitEnum::ControlPoint }; // the program's own: how a file's B-splines
+                                                                      // become templates
   int         threads{ 0 };
   double      memoryLimit{ 0.0 }; // MB, 0 = from the available memory
   bool        demo{ false };
   std::string outputDir{ "demo-output" };
 
-  std::optional<unsigned int> grid;
-  std::optional<double>       voxelSize;
-  std::optional<std::string>  voxelization;
-  std::optional<int>          seed;
-  std::optional<unsigned int> levels;
-  std::optional<unsigned int> iterations;
-  std::optional<double>       sampling;
-  std::optional<double>       bendingWeight;
-  std::optional<double>       skipGoBelow; // go+cpd: GO left out below this mean distance (voxels)
-  std::optional<double>       foldingWeight;
-  std::optional<double>       mrfWeight;
-  std::optional<bool>         mrfPyramid;
-  std::optional<std::string>  mrfSolver;                  // tree, expansion or icm
-  std::optional<double>       timeLimit;                  // seconds of registration
-  std::string                 initialTransform{ "none" }; // the pose stage: none, rigid, similarity or affine
-  std::optional<unsigned int> poseRefinementRuns;         // deformation runs added by the pose refinement
+  std::optional<Enums::Method>           method;
+  std::optional<Enums::InitialTransform> initialTransform; // the pose stage
+  std::optional<unsigned int>            grid;
+  std::optional<double>                  voxelSize;
+  std::optional<Enums::Voxelization>     voxelization;
+  std::optional<int>                     seed;
+  std::optional<unsigned int>            levels;
+  std::optional<unsigned int>            iterations;
+  std::optional<double>                  sampling;
+  std::optional<double>                  bendingWeight;
+  std::optional<double>                  skipGoBelow; // go+cpd: GO left out below this mean distance (voxels)
+  std::optional<double>                  foldingWeight;
+  std::optional<double>                  mrfWeight;
+  std::optional<bool>                    mrfPyramid;
+  std::optional<MRFSolverEnum>           mrfSolver;
+  std::optional<double>                  timeLimit;          // seconds of registration
+  std::optional<unsigned int>            poseRefinementRuns; // deformation runs added by the pose refinement
 };
+
+/** The command-line spelling of an MRF solver ("tree", "expansion", "icm"), and its parse (false for other text). */
+std::string
+MRFSolverToString(Options::MRFSolverEnum solver);
+bool
+MRFSolverFromString(const std::string & text, Options::MRFSolverEnum & solver);
 
 /** The options of the command line; throws Error on a bad one. --help prints the usage and exits. */
 Options

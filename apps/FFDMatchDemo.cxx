@@ -327,7 +327,7 @@ RunDemo(Options options)
   {
     std::cerr << "ffd-match: demo: no snapshot.png: " << noSnapshot << std::endl;
   }
-  options.method = "go";
+  options.method = Options::Enums::Method::GO;
   {
     OutputFiles       meshes("ffd-match");
     const std::string sourceTemporary = meshes.Add(options.source, "the demo's source", {}, false);

@@ -53,22 +53,31 @@ Usage()
            "       ffd-match --demo [--output-dir DIR] [same tuning options]\n"
            "  --source        mesh moved onto the target (OFF, OBJ, VTK, VTP, STL or PLY)\n"
            "  --target        mesh (or open surface patch) matched to\n"
-           "  --method        go+cpd (default): go, refined by coherent point drift on the B-spline\n"
+           "  --method        (default "
+        << Options::Enums::MethodToString(defaults.method)
+        << ") go+cpd: go, refined by coherent point drift on the B-spline\n"
            "                  coefficients (soft vertex correspondences in both directions, bending\n"
            "                  prior); go: B-spline FFD by gradient-based image registration; mrf: by discrete\n"
            "                  Markov-random-field optimization of the control points; par: template\n"
            "                  weights fitted to the meshes directly (needs --templates); go+par, mrf+par:\n"
            "                  go or mrf, refined by par\n"
            "  --templates     ITK transform file of B-spline templates on one grid (par methods)\n"
-           "  --template-split control-point (default): one weight per control point and template;\n"
-           "                  axis: per control point and axis; none: one weight per template\n"
+           "  --template-split control-point: one weight per control point and template; axis: per control\n"
+           "                  point and axis; none: one weight per template (default "
+        << itk::ParametricTemplateTransformEnums::TemplateSplitToString(Options{}.templateSplit)
+        << ")\n"
            "  --mrf-weight    regularization weight lambda of method mrf (default "
         << defaults.mrfWeight
         << ")\n"
-           "  --mrf-pyramid   off (default): every mrf level uses the full-resolution images; on: coarse levels\n"
-           "                  use smoothed, shrunk images (faster, less accurate on thin distance bands)\n"
-           "  --mrf-solver    tree (default): exact minimum on a minimum spanning tree of the control grid, then\n"
-           "                  ICM sweeps; expansion: alpha-expansion by max-flow (slower); icm: greedy sweeps\n"
+           "  --mrf-pyramid   off: every mrf level uses the full-resolution images; on: coarse levels use\n"
+           "                  smoothed, shrunk images (faster, less accurate on thin distance bands) (default "
+        << (defaults.mrfPyramid ? "on" : "off")
+        << ")\n"
+           "  --mrf-solver    tree: exact minimum on a minimum spanning tree of the control grid, then ICM\n"
+           "                  sweeps; expansion: alpha-expansion by max-flow (slower); icm: greedy sweeps\n"
+           "                  (default "
+        << MRFSolverToString(defaults.mrfSolver)
+        << ")\n"
            "  --output        deformed source: the source's vertex order and cells, moved onto the target\n"
            "  --grid          control points per axis of the final B-spline grid, >= 4 (default "
         << defaults.grid
@@ -76,17 +85,23 @@ Usage()
            "  --voxel-size    voxel edge length in mesh units (default "
         << defaults.voxelSize
         << ")\n"
-           "  --voxelization  sdf (default): unsigned distance in a band, mean squares metric;\n"
-           "                  occupancy: surface voxels, Mattes mutual information; solid: inside voxels\n"
-           "                  (winding number), Mattes mutual information. The metric samples a band\n"
-           "                  around the target surface.\n"
-           "  --initial-transform  the pose stage before the deformation: none (default; the meshes must\n"
-           "                  overlap), or a rigid, similarity (rigid + isotropic scale) or affine pose found\n"
-           "                  from any rotation, scale and translation, with a partial target; T is then the\n"
-           "                  composite of the deformation and the pose\n"
+           "  --voxelization  sdf: unsigned distance in a band, mean squares metric; occupancy: surface\n"
+           "                  voxels, Mattes mutual information; solid: inside voxels (winding number), Mattes\n"
+           "                  mutual information. The metric samples a band around the target surface\n"
+           "                  (default "
+        << Options::Enums::VoxelizationToString(defaults.voxelization)
+        << ")\n"
+           "  --initial-transform  the pose stage before the deformation: none (the meshes must overlap),\n"
+           "                  or a rigid, similarity (rigid + isotropic scale) or affine pose found from any\n"
+           "                  rotation, scale and translation, with a partial target; T is then the composite\n"
+           "                  of the deformation and the pose (default "
+        << Options::Enums::InitialTransformToString(defaults.initialTransform)
+        << ")\n"
            "  --pose-refinement  with a pose stage and go+cpd: at most N more deformation runs from small\n"
            "                  corrections of the pose (rotations, shifts, scalings), keeping the run whose\n"
-           "                  soft correspondences fit best (default 84; 0: the pose stage's pose only)\n"
+           "                  soft correspondences fit best (default "
+        << defaults.poseRefinementRuns
+        << "; 0: the pose stage's pose only)\n"
            "  --skip-go-below go+cpd without a pose stage: when the target's vertices lie, on average, less\n"
            "                  than VOXELS voxels from the source surface, GO (and the source's voxelization)\n"
            "                  is left out and the point-drift stage starts from the identity (default "
@@ -149,6 +164,36 @@ WholeNumber(const std::string & option, const std::string & text, double minimum
 }
 } // namespace
 
+std::string
+MRFSolverToString(Options::MRFSolverEnum solver)
+{
+  switch (solver)
+  {
+    case Options::MRFSolverEnum::AlphaExpansion:
+      return "expansion";
+    case Options::MRFSolverEnum::ICM:
+      return "icm";
+    case Options::MRFSolverEnum::SpanningTree:
+    default:
+      return "tree";
+  }
+}
+
+bool
+MRFSolverFromString(const std::string & text, Options::MRFSolverEnum & solver)
+{
+  using Solver = Options::MRFSolverEnum;
+  for (const Solver candidate : { Solver::SpanningTree, Solver::AlphaExpansion, Solver::ICM })
+  {
+    if (text == MRFSolverToString(candidate))
+    {
+      solver = candidate;
+      return true;
+    }
+  }
+  return false;
+}
+
 Options
 ParseArguments(int argc, char * argv[])
 {
@@ -178,7 +223,13 @@ ParseArguments(int argc, char * argv[])
     }
     else if (argument == "--method")
     {
-      options.method = value();
+      const std::string      text = value();
+      Options::Enums::Method method;
+      if (!Options::Enums::MethodFromString(text, method))
+      {
+        throw Error("unknown method '" + text + "' (expected go, mrf, par, go+par, mrf+par or go+cpd)");
+      }
+      options.method = method;
     }
     else if (argument == "--output")
     {
@@ -204,21 +255,23 @@ ParseArguments(int argc, char * argv[])
     }
     else if (argument == "--voxelization")
     {
-      options.voxelization = value();
-      if (*options.voxelization != "occupancy" && *options.voxelization != "solid" && *options.voxelization != "sdf")
+      const std::string            text = value();
+      Options::Enums::Voxelization voxelization;
+      if (!Options::Enums::VoxelizationFromString(text, voxelization))
       {
-        throw Error("--voxelization must be occupancy, solid or sdf, not '" + *options.voxelization + "'");
+        throw Error("--voxelization must be occupancy, solid or sdf, not '" + text + "'");
       }
+      options.voxelization = voxelization;
     }
     else if (argument == "--initial-transform")
     {
-      options.initialTransform = value();
-      itk::FFDShapeMatchingEnums::InitialTransform parsed = itk::FFDShapeMatchingEnums::InitialTransform::None;
-      if (!itk::FFDShapeMatchingEnums::InitialTransformFromString(options.initialTransform, parsed))
+      const std::string                text = value();
+      Options::Enums::InitialTransform initialTransform;
+      if (!Options::Enums::InitialTransformFromString(text, initialTransform))
       {
-        throw Error("--initial-transform must be none, rigid, similarity or affine, not '" + options.initialTransform +
-                    "'");
+        throw Error("--initial-transform must be none, rigid, similarity or affine, not '" + text + "'");
       }
+      options.initialTransform = initialTransform;
     }
     else if (argument == "--pose-refinement")
     {
@@ -287,12 +340,13 @@ ParseArguments(int argc, char * argv[])
     }
     else if (argument == "--mrf-solver")
     {
-      const std::string setting = value();
-      if (setting != "tree" && setting != "expansion" && setting != "icm")
+      const std::string      setting = value();
+      Options::MRFSolverEnum solver;
+      if (!MRFSolverFromString(setting, solver))
       {
         throw Error("--mrf-solver must be tree, expansion or icm, not '" + setting + "'");
       }
-      options.mrfSolver = setting;
+      options.mrfSolver = solver;
     }
     else if (argument == "--time-limit")
     {
@@ -333,11 +387,10 @@ ParseArguments(int argc, char * argv[])
     }
     else if (argument == "--template-split")
     {
-      options.templateSplit = value();
-      if (options.templateSplit != "none" && options.templateSplit != "control-point" &&
-          options.templateSplit != "axis")
+      const std::string text = value();
+      if (!itk::ParametricTemplateTransformEnums::TemplateSplitFromString(text, options.templateSplit))
       {
-        throw Error("--template-split must be none, control-point or axis, not '" + options.templateSplit + "'");
+        throw Error("--template-split must be none, control-point or axis, not '" + text + "'");
       }
     }
     else
@@ -353,20 +406,13 @@ ParseArguments(int argc, char * argv[])
     }
     return options;
   }
-  if (options.method.empty())
-  {
-    options.method = "go+cpd"; // the default: the most accurate on the benchmark (benchmark/PEERS_MESH.md)
-  }
-  itk::FFDShapeMatchingEnums::Method method;
-  if (!itk::FFDShapeMatchingEnums::MethodFromString(options.method, method))
-  {
-    throw Error("unknown method '" + options.method + "' (expected go, mrf, par, go+par, mrf+par or go+cpd)");
-  }
-  options.method = itk::FFDShapeMatchingEnums::MethodToString(method);
-  const bool usesTemplates = options.method.find("par") != std::string::npos;
+  using Method = Options::Enums::Method;
+  const Method method = options.method.value_or(GetMatchingDefaults().method);
+  const bool   usesTemplates = method == Method::Par || method == Method::GOPar || method == Method::MRFPar;
   if (usesTemplates && options.templates.empty())
   {
-    throw Error("method " + options.method + " needs --templates FILE (an ITK transform file of B-spline templates)");
+    throw Error("method " + Options::Enums::MethodToString(method) +
+                " needs --templates FILE (an ITK transform file of B-spline templates)");
   }
   if (!usesTemplates && !options.templates.empty())
   {

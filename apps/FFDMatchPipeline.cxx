@@ -81,12 +81,10 @@ ReadTemplates(const Options & options)
     throw Error("the templates '" + options.templates +
                 "' hold no BSplineTransform_double_3_3 and no parametric-template transform");
   }
-  ParametricTransformType::TemplateSplitEnum split = ParametricTransformType::TemplateSplitEnum::None;
-  itk::ParametricTemplateTransformEnums::TemplateSplitFromString(options.templateSplit, split);
   templates = ParametricTransformType::New();
   try
   {
-    templates->SetTemplatesFromBSplineTransforms(bsplines, split);
+    templates->SetTemplatesFromBSplineTransforms(bsplines, options.templateSplit);
   }
   catch (const itk::ExceptionObject & error)
   {
@@ -198,7 +196,10 @@ GetMatchingDefaults()
 {
   const auto filter = MatchingFilterType::New();
   using MethodEnum = MatchingFilterType::MethodEnum;
-  return { filter->GetNumberOfControlPointsPerAxis(),
+  return { filter->GetMethod(),
+           filter->GetInitialTransform(),
+           filter->GetVoxelization(),
+           filter->GetNumberOfControlPointsPerAxis(),
            filter->GetVoxelSize(),
            filter->GetNumberOfLevels(),
            filter->GetNumberOfIterationsOf(MethodEnum::GO),
@@ -208,33 +209,27 @@ GetMatchingDefaults()
            filter->GetBendingEnergyWeight(),
            filter->GetFoldingPenaltyWeight(),
            filter->GetMRFRegularizationWeight(),
+           filter->GetMRFUseImagePyramid(),
+           filter->GetMRFSolver(),
            filter->GetRandomSeed(),
-           filter->GetVoxelStageDistanceThreshold() };
+           filter->GetVoxelStageDistanceThreshold(),
+           filter->GetPoseRefinementRuns() };
 }
 
 MatchingFilterType::Pointer
 NewMatchingFilter(const Options & options)
 {
   using Enums = itk::FFDShapeMatchingEnums;
-  auto          filter = MatchingFilterType::New();
-  Enums::Method method = Enums::Method::GO;
-  Enums::MethodFromString(options.method, method);
-  filter->SetMethod(method);
-  Enums::InitialTransform initialTransform = Enums::InitialTransform::None;
-  Enums::InitialTransformFromString(options.initialTransform, initialTransform);
-  filter->SetInitialTransform(initialTransform);
-  if (options.voxelization)
-  {
-    Enums::Voxelization voxelization = Enums::Voxelization::SignedDistance;
-    Enums::VoxelizationFromString(*options.voxelization, voxelization);
-    filter->SetVoxelization(voxelization);
-  }
+  auto       filter = MatchingFilterType::New();
   const auto given = [](const auto & value, auto set) {
     if (value)
     {
       set(*value);
     }
   };
+  given(options.method, [&](Enums::Method v) { filter->SetMethod(v); });
+  given(options.initialTransform, [&](Enums::InitialTransform v) { filter->SetInitialTransform(v); });
+  given(options.voxelization, [&](Enums::Voxelization v) { filter->SetVoxelization(v); });
   given(options.grid, [&](unsigned int v) { filter->SetNumberOfControlPointsPerAxis(v); });
   given(options.voxelSize, [&](double v) { filter->SetVoxelSize(v); });
   given(options.levels, [&](unsigned int v) { filter->SetNumberOfLevels(v); });
@@ -245,11 +240,7 @@ NewMatchingFilter(const Options & options)
   given(options.foldingWeight, [&](double v) { filter->SetFoldingPenaltyWeight(v); });
   given(options.mrfWeight, [&](double v) { filter->SetMRFRegularizationWeight(v); });
   given(options.mrfPyramid, [&](bool v) { filter->SetMRFUseImagePyramid(v); });
-  given(options.mrfSolver, [&](const std::string & v) {
-    using SolverEnum = itk::MRFLabelingSolverEnums::Algorithm;
-    filter->SetMRFSolver(v == "expansion" ? SolverEnum::AlphaExpansion
-                                          : (v == "icm" ? SolverEnum::ICM : SolverEnum::SpanningTree));
-  });
+  given(options.mrfSolver, [&](Options::MRFSolverEnum v) { filter->SetMRFSolver(v); });
   given(options.timeLimit, [&](double v) { filter->SetMaximumRunTime(v); });
   given(options.seed, [&](int v) { filter->SetRandomSeed(v); });
   given(options.poseRefinementRuns, [&](unsigned int v) { filter->SetPoseRefinementRuns(v); });

@@ -29,21 +29,27 @@ namespace ffd
 {
 using MatchingFilterType = itk::MeshShapeMatchingFilter<MeshType, ImageType>;
 
-/** The defaults of the matching filter, for the usage text. */
+/** The defaults of the matching filter, for the usage text and for the checks of the command line. */
 struct MatchingDefaults
 {
-  unsigned int grid;
-  double       voxelSize;
-  unsigned int levels;
-  unsigned int goIterations;
-  unsigned int mrfIterations;
-  unsigned int parIterations;
-  double       sampling;
-  double       bendingWeight;
-  double       foldingWeight;
-  double       mrfWeight;
-  int          seed;
-  double       skipGoBelow;
+  Options::Enums::Method           method;
+  Options::Enums::InitialTransform initialTransform;
+  Options::Enums::Voxelization     voxelization;
+  unsigned int                     grid;
+  double                           voxelSize;
+  unsigned int                     levels;
+  unsigned int                     goIterations;
+  unsigned int                     mrfIterations;
+  unsigned int                     parIterations;
+  double                           sampling;
+  double                           bendingWeight;
+  double                           foldingWeight;
+  double                           mrfWeight;
+  bool                             mrfPyramid;
+  Options::MRFSolverEnum           mrfSolver;
+  int                              seed;
+  double                           skipGoBelow;
+  unsigned int                     poseRefinementRuns;
 };
 
 MatchingDefaults

@@ -55,7 +55,7 @@ MatchReportJson(const Options & options, const MatchRecord & r)
   std::ostringstream report;
   report << "{\n"
          << "  \"program\": \"ffd-match\",\n"
-         << "  \"method\": " << JsonString(options.method) << ",\n"
+         << "  \"method\": " << JsonString(r.method) << ",\n"
          << "  \"source\": " << JsonString(options.source) << ",\n"
          << "  \"target\": " << JsonString(options.target) << ",\n"
          << "  \"output\": " << JsonString(options.output) << ",\n"

@@ -43,6 +43,7 @@ TrueError(const MeshType * moved, const MeshType * target, const GroundTruth & t
 /** What a run of ffd-match measured, for the report. */
 struct MatchRecord
 {
+  std::string         method; // the method that ran
   std::string         metricName;
   std::string         stopCondition;
   std::vector<double> metricValues;
@@ -77,7 +78,7 @@ struct MatchRecord
   double totalSeconds{ 0.0 };
   // The pose stage (none: the rest is unused): A : target -> source as rotation angle (degrees) and axis, scale,
   // translation of the target centroid, trimmed distance score and the runner-up's.
-  std::string initialTransform{ "none" };
+  std::string initialTransform; // the pose stage that ran
   double      poseSeconds{ 0.0 };
   double      poseAngle{ 0.0 };
   double      poseAxis[3]{ 0.0, 0.0, 1.0 };

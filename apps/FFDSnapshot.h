@@ -18,10 +18,7 @@
 #ifndef FFDSnapshot_h
 #define FFDSnapshot_h
 
-// ffd-match --snapshot: a before/after picture of a match, rendered off screen with VTK. The rendering (VTK's
-// OpenGL, FreeType and PNG code, and the X11 and GL libraries under them) lives in a module of its own,
-// ffd-match-snapshot (FFDSnapshotRendering.cxx), that WriteSnapshot() loads when a snapshot is asked for: linked
-// into the program, those libraries were loaded and relocated on every run, a fifth of its start-up (67 -> 54 ms).
+// ffd-match --snapshot: a before/after picture of a match, rendered off screen with VTK (OpenGL, FreeType, PNG).
 
 #include "itkMesh.h"
 
@@ -35,23 +32,6 @@ namespace ffd
 using DoubleCoordinateMeshType =
   itk::Mesh<double, 3, itk::DefaultStaticMeshTraits<double, 3, 3, double, double, double>>;
 
-/** What a snapshot shows, as WriteSnapshot() hands it to the rendering module (pointers to the caller's objects,
- * valid for the call). */
-struct SnapshotScene
-{
-  const DoubleCoordinateMeshType * source;
-  const DoubleCoordinateMeshType * deformed;
-  const DoubleCoordinateMeshType * target;
-  const std::vector<double> *      beforeDistances;
-  const std::vector<double> *      afterDistances;
-  const std::string *              title;
-  const std::string *              fileName;
-};
-
-/** The rendering module's entry point: its name, and its type (it throws std::runtime_error on failure). */
-constexpr const char * SnapshotEntryPointName = "FFDShapeMatchingRenderSnapshot";
-using SnapshotEntryPoint = void (*)(const SnapshotScene &);
-
 /** Whether off-screen rendering can start here (VTK's X11 render window needs a display; run the
  * program under xvfb-run on a machine without one). On false, \c why says what is missing. */
 bool
@@ -61,9 +41,8 @@ SnapshotPossible(std::string & why);
  * and the target before matching; right, the deformed source and the target. In both the target is
  * coloured, on one scale, by each of its vertices' distance to the (deformed) source surface:
  * \c beforeDistances and \c afterDistances, in the target's point order (the quantity behind the mean
- * directed distance that ffd-match reports). The rendering module is loaded on the first call, from ffd-match's own
- * directory (the build tree) or the library directory of its installation. Throws std::runtime_error when there is
- * no display, the module cannot be loaded, or rendering or writing fails. */
+ * directed distance that ffd-match reports). Throws std::runtime_error when there is no display, or rendering or
+ * writing fails. */
 void
 WriteSnapshot(const DoubleCoordinateMeshType * source,
               const DoubleCoordinateMeshType * deformed,

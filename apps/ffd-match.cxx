@@ -37,8 +37,7 @@
 #include "FFDTransformFiles.h"
 #include "itkMeshSurfaceDistanceCalculator.h"
 #include "itkMultiThreaderBase.h"
-#include "itkRegisterFFDShapeMatchingTextMeshIOFactories.h"
-#include "itkTransformFileText.h"
+#include "itkRegisterFFDShapeMatchingMeshIOFactories.h"
 #include "itkTransformToJacobianDeterminantImageFilter.h"
 
 #include <algorithm>
@@ -52,6 +51,7 @@ namespace ffd
 {
 namespace
 {
+using Enums = itk::FFDShapeMatchingEnums;
 using SurfaceDistanceType = itk::MeshSurfaceDistanceCalculator<MeshType>;
 using JacobianFilterType = itk::TransformToJacobianDeterminantImageFilter<ImageType>;
 
@@ -68,23 +68,12 @@ DeclareOutputs(const Options & options, OutputFiles & outputs)
     if (!options.templates.empty())
     {
       outputs.AddInput(options.templates);
-      // The templates are read by the transform files module: loaded (or found missing) before any work.
-      try
-      {
-        LoadTransformFileReader();
-      }
-      catch (const std::runtime_error & error)
-      {
-        throw Error("cannot read the templates '" + options.templates + "': " + OneLine(error.what()));
-      }
     }
     names[0] = outputs.Add(options.output, "--output", { ".off", ".obj", ".vtk", ".vtp", ".stl", ".ply" }, false);
-    // An STL, PLY or VTP output needs VTK's formats: their module is loaded (or found missing) before any work.
-    PrepareMeshFormatOrThrow<Error>(options.output, "cannot write mesh '" + options.output + "'");
     if (!options.transformOut.empty())
     {
       names[1] = outputs.Add(options.transformOut, "--transform-out", {}, false);
-      if (!itk::IsTextTransformFileName(names[1]))
+      if (!IsWritableTransformFileName(names[1]))
       {
         throw Error("--transform-out must name a transform file ITK can write (e.g. .tfm, .txt), not '" +
                     options.transformOut + "'");
@@ -110,26 +99,20 @@ DeclareOutputs(const Options & options, OutputFiles & outputs)
   return names;
 }
 
-// Writes T to the output \c options.transformOut as ITK's text transform IO writes it (each write checked).
+// Writes T to \c fileName (the temporary name of \c options.transformOut) and reads it back.
 void
-WriteTransform(const MatchingFilterType::TransformType * transform, const Options & options, OutputFiles & outputs)
+WriteTransform(const MatchingFilterType::TransformType * transform,
+               const std::string &                       fileName,
+               const Options &                           options)
 {
-  std::string text;
   try
   {
-    text = itk::MakeTextTransformFileContent(*transform);
-  }
-  catch (const itk::ExceptionObject & error)
-  {
-    throw Error("cannot write the transform '" + options.transformOut + "': " + OneLine(error.GetDescription()));
-  }
-  try
-  {
-    outputs.WriteText(options.transformOut, text);
+    WriteTransformFile(transform, fileName);
   }
   catch (const std::exception & error)
   {
-    throw Error(OneLine(error.what()) + "; is the disk full or a file size limit reached?");
+    throw Error("cannot write the transform '" + options.transformOut + "': " + OneLine(error.what()) +
+                "; is the disk full or a file size limit reached?");
   }
 }
 } // namespace
@@ -156,7 +139,7 @@ Match(const Options & options, const GroundTruth * truth, const std::string & de
   matching->SetSourceMesh(source);
   matching->SetTargetMesh(target);
   // Without a pose stage the meshes must overlap already; with one, the filter checks it after the pose.
-  if (matching->GetInitialTransform() == itk::FFDShapeMatchingEnums::InitialTransform::None)
+  if (matching->GetInitialTransform() == Enums::InitialTransform::None)
   {
     try
     {
@@ -172,39 +155,20 @@ Match(const Options & options, const GroundTruth * truth, const std::string & de
   const MeshType *                          deformed = matching->GetOutput();
   const MatchingFilterType::TransformType * transform = matching->GetTransform();
   const auto *                              apply = matching->GetModifiableMeshTransformFilter();
-  const bool   posed = matching->GetInitialTransform() != itk::FFDShapeMatchingEnums::InitialTransform::None;
-  const auto * pose = matching->GetModifiablePoseRegistration();
-  // The pose the deformation started from (the pose stage's, or its refinement's), decomposed.
-  itk::detail::MeshPoseDecomposition poseParts;
+  const bool                                posed = matching->GetInitialTransform() != Enums::InitialTransform::None;
+  const auto *                              pose = matching->GetModifiablePoseRegistration();
+  // The pose the deformation started from (the pose stage's, or its refinement's), decomposed by the filter.
+  const auto & axis = matching->GetPoseRotationAxis();
+  const auto & shift = matching->GetPoseTranslation();
   if (posed)
   {
-    const auto * linear =
-      dynamic_cast<const itk::MatrixOffsetTransformBase<double, 3, 3> *>(matching->GetPoseTransform());
-    if (linear == nullptr)
-    {
-      throw Error("the pose is not a matrix-and-offset transform");
-    }
-    Eigen::Matrix3d matrix;
-    Eigen::Vector3d offset;
-    Eigen::Vector3d center;
-    for (unsigned int d = 0; d < 3; ++d)
-    {
-      offset[d] = linear->GetOffset()[d];
-      center[d] = linear->GetCenter()[d];
-      for (unsigned int e = 0; e < 3; ++e)
-      {
-        matrix(d, e) = linear->GetMatrix()(d, e);
-      }
-    }
-    poseParts = itk::detail::DecomposeMeshPose(
-      matrix, offset, center, matching->GetInitialTransform() == itk::FFDShapeMatchingEnums::InitialTransform::Rigid);
-    std::cerr << "ffd-match: pose (" << options.initialTransform << ", target -> source): rotation " << std::fixed
-              << std::setprecision(2) << poseParts.Angle << " deg about (" << std::setprecision(3) << poseParts.Axis[0]
-              << ", " << poseParts.Axis[1] << ", " << poseParts.Axis[2] << "), scale " << std::setprecision(4)
-              << poseParts.Scale << ", translation (" << std::setprecision(2) << poseParts.Translation[0] << ", "
-              << poseParts.Translation[1] << ", " << poseParts.Translation[2] << "); score " << std::setprecision(3)
-              << pose->GetScore() << " (runner-up " << pose->GetRunnerUpScore() << ") (" << std::setprecision(2)
-              << matching->GetPoseTime() << " s)" << std::endl;
+    std::cerr << "ffd-match: pose (" << Enums::InitialTransformToString(matching->GetInitialTransform())
+              << ", target -> source): rotation " << std::fixed << std::setprecision(2)
+              << matching->GetPoseRotationAngle() << " deg about (" << std::setprecision(3) << axis[0] << ", "
+              << axis[1] << ", " << axis[2] << "), scale " << std::setprecision(4) << matching->GetPoseScale()
+              << ", translation (" << std::setprecision(2) << shift[0] << ", " << shift[1] << ", " << shift[2]
+              << "); score " << std::setprecision(3) << pose->GetScore() << " (runner-up " << pose->GetRunnerUpScore()
+              << ") (" << std::setprecision(2) << matching->GetPoseTime() << " s)" << std::endl;
     const auto & residuals = matching->GetPoseRefinementResiduals();
     if (!residuals.empty())
     {
@@ -278,13 +242,13 @@ Match(const Options & options, const GroundTruth * truth, const std::string & de
   WriteCheckedMeshFile<Error>(deformed, temporary[0], options.output);
   if (!temporary[1].empty())
   {
-    WriteTransform(transform, options, outputs);
+    WriteTransform(transform, temporary[1], options);
   }
   if (!temporary[3].empty())
   {
     std::ostringstream title;
-    title << "ffd-match --method " << options.method << ": mean directed distance " << std::setprecision(3)
-          << before->GetMeanDistance() << " -> " << after->GetMeanDistance() << " mm";
+    title << "ffd-match --method " << Enums::MethodToString(matching->GetMethod()) << ": mean directed distance "
+          << std::setprecision(3) << before->GetMeanDistance() << " -> " << after->GetMeanDistance() << " mm";
     try
     {
       WriteSnapshot(source, deformed, target, before->GetDistances(), after->GetDistances(), title.str(), temporary[3]);
@@ -299,8 +263,8 @@ Match(const Options & options, const GroundTruth * truth, const std::string & de
 
   if (!options.report.empty())
   {
-    using Enums = itk::FFDShapeMatchingEnums;
     const auto method = matching->GetMethod();
+    record.method = Enums::MethodToString(method);
     record.metricName = matching->GetMetricName();
     record.stopCondition = matching->GetStopConditionDescription();
     record.metricValues = matching->GetMetricValues();
@@ -326,12 +290,12 @@ Match(const Options & options, const GroundTruth * truth, const std::string & de
     record.openBoundaryEdges = matching->GetNumberOfOpenBoundaryEdges();
     record.sourceVertices = source->GetNumberOfPoints();
     record.targetVertices = target->GetNumberOfPoints();
-    record.initialTransform = itk::FFDShapeMatchingEnums::InitialTransformToString(matching->GetInitialTransform());
+    record.initialTransform = Enums::InitialTransformToString(matching->GetInitialTransform());
     if (posed)
     {
       record.poseSeconds = matching->GetPoseTime();
-      record.poseAngle = poseParts.Angle;
-      record.poseScale = poseParts.Scale;
+      record.poseAngle = matching->GetPoseRotationAngle();
+      record.poseScale = matching->GetPoseScale();
       record.poseRefinementResiduals = matching->GetPoseRefinementResiduals();
       record.poseRefinementSeconds = matching->GetPoseRefinementTime();
       record.poseScore = pose->GetScore();
@@ -339,8 +303,8 @@ Match(const Options & options, const GroundTruth * truth, const std::string & de
       record.poseRunnerUpDistance = pose->GetRunnerUpRotationDistance();
       for (unsigned int d = 0; d < 3; ++d)
       {
-        record.poseAxis[d] = poseParts.Axis[d];
-        record.poseTranslation[d] = poseParts.Translation[d];
+        record.poseAxis[d] = axis[d];
+        record.poseTranslation[d] = shift[d];
       }
     }
     record.voxelizeSeconds = matching->GetVoxelizationTime();
@@ -407,7 +371,7 @@ main(int argc, char * argv[])
       itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(options.threads);
       itk::MultiThreaderBase::SetGlobalMaximumNumberOfThreads(options.threads);
     }
-    itk::RegisterFFDShapeMatchingTextMeshIOFactories();
+    itk::RegisterFFDShapeMatchingMeshIOFactories();
     if (options.demo)
     {
       return ffd::RunDemo(options);

@@ -35,12 +35,10 @@
 #include "FFDOutputFiles.h"
 #include "FFDProgramMessages.h"
 #include "FFDProgramSupport.h"
+#include "FFDTransformFiles.h"
 #include "itkCompositeTransform.h"
 #include "itkParametricTemplateTransform.h"
 #include "itkRegisterFFDShapeMatchingTransforms.h"
-#include "itkTransformFileChecks.h"
-#include "itkTransformFileReader.h"
-#include "itkTransformFileWriter.h"
 
 #include <algorithm>
 #include <cmath>
@@ -144,29 +142,16 @@ BSplineType::Pointer
 ReadBSpline(const std::string & fileName)
 {
   ffd::CheckInputFile<std::runtime_error>(fileName, "transform", ffd::MaximumTransformFileSize);
-  const std::string problem = itk::FindProblemInTextTransformFile(fileName);
-  if (!problem.empty())
-  {
-    throw std::runtime_error("cannot read transform '" + fileName + "': " + problem);
-  }
-  auto reader = itk::TransformFileReaderTemplate<double>::New();
-  reader->SetFileName(fileName);
+  ffd::TransformListType all;
   try
   {
-    reader->Update();
-  }
-  catch (const itk::ExceptionObject & error)
-  {
-    throw std::runtime_error("cannot read transform '" + fileName + "': " + OneLine(error.GetDescription()));
+    all = ffd::ReadTransformFile(fileName);
   }
   catch (const std::exception & error)
   {
-    throw std::runtime_error("cannot read transform '" + fileName + "': malformed transform file (" +
-                             OneLine(error.what()) + ")");
+    throw std::runtime_error("cannot read transform '" + fileName + "': " + OneLine(error.what()));
   }
-  std::vector<itk::TransformBaseTemplate<double>::Pointer> all(reader->GetTransformList()->begin(),
-                                                               reader->GetTransformList()->end());
-  std::vector<BSplineType::Pointer>                        bsplines;
+  std::vector<BSplineType::Pointer> bsplines;
   for (std::size_t i = 0; i < all.size(); ++i)
   {
     if (auto * composite = dynamic_cast<itk::CompositeTransform<double, 3> *>(all[i].GetPointer()))
@@ -347,16 +332,13 @@ Run(const Options & options)
               << " %)" << (k < modes ? "" : ", left out") << "\n";
   }
 
-  auto writer = itk::TransformFileWriterTemplate<double>::New();
-  writer->SetInput(templates);
-  writer->SetFileName(temporary);
-  writer->Update();
-  auto reader = itk::TransformFileReaderTemplate<double>::New();
-  reader->SetFileName(temporary);
-  reader->Update();
-  if (reader->GetTransformList()->size() != 1 || reader->GetTransformList()->front()->GetNumberOfParameters() != modes)
+  try
   {
-    throw std::runtime_error("cannot write --output '" + options.output + "': the written file does not read back");
+    ffd::WriteTransformFile(templates, temporary);
+  }
+  catch (const std::exception & error)
+  {
+    throw std::runtime_error("cannot write --output '" + options.output + "': " + OneLine(error.what()));
   }
   outputs.Commit();
   std::cout << "ffd-templates: " << modes << " modes explain " << 100.0 * explained / total << " % of the variance"

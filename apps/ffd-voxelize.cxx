@@ -39,7 +39,7 @@
 #include "itkMesh.h"
 #include "itkMeshFileReader.h"
 #include "itkMultiThreaderBase.h"
-#include "itkRegisterFFDShapeMatchingTextMeshIOFactories.h"
+#include "itkRegisterFFDShapeMatchingMeshIOFactories.h"
 #include "itkTriangleMeshToVoxelImageFilter.h"
 
 #include <chrono>
@@ -433,14 +433,13 @@ main(int argc, char * argv[])
     {
       itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(options.threads);
     }
-    itk::RegisterFFDShapeMatchingTextMeshIOFactories();
+    itk::RegisterFFDShapeMatchingMeshIOFactories();
     CurrentTask = "read the mesh";
     ffd::CheckInputFile<std::runtime_error>(options.meshFile, "mesh", ffd::MaximumMeshFileSize);
     ffd::OutputFiles  outputs("ffd-voxelize");
     const OutputNames names = DeclareOutputs(options, outputs);
     const auto        readStart = ClockType::now();
-    ffd::PrepareMeshFormatOrThrow<std::runtime_error>(options.meshFile, "cannot read mesh '" + options.meshFile + "'");
-    auto reader = itk::MeshFileReader<MeshType>::New();
+    auto              reader = itk::MeshFileReader<MeshType>::New();
     reader->SetFileName(options.meshFile);
     try
     {

@@ -21,7 +21,7 @@
 #include "itkFFDShapeMatchingCompatibility.h"
 #include "itkDataObjectDecorator.h"
 #include "itkMeshToMeshFilter.h"
-#include "itkSpatialJacobianEvaluator.h"
+#include "FFDShapeMatchingDetail/itkSpatialJacobianEvaluator.h"
 #include "itkTransform.h"
 #include <vector>
 

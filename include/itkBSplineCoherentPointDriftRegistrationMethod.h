@@ -19,9 +19,9 @@
 #define itkBSplineCoherentPointDriftRegistrationMethod_h
 
 #include "itkFFDShapeMatchingCompatibility.h"
+#include "itkMeshRegistrationMethodBase.h"
 #include "itkBSplineTransform.h"
 #include "itkDataObjectDecorator.h"
-#include "itkProcessObject.h"
 #include "itkTransform.h"
 #include <chrono>
 #include <string>
@@ -87,13 +87,14 @@ namespace itk
  * \ingroup FFDShapeMatching
  */
 template <typename TFixedMesh, typename TMovingMesh = TFixedMesh>
-class ITK_TEMPLATE_EXPORT BSplineCoherentPointDriftRegistrationMethod : public ProcessObject
+class ITK_TEMPLATE_EXPORT BSplineCoherentPointDriftRegistrationMethod
+  : public MeshRegistrationMethodBase<TFixedMesh, TMovingMesh>
 {
 public:
   ITK_DISALLOW_COPY_AND_MOVE(BSplineCoherentPointDriftRegistrationMethod);
 
   using Self = BSplineCoherentPointDriftRegistrationMethod;
-  using Superclass = ProcessObject;
+  using Superclass = MeshRegistrationMethodBase<TFixedMesh, TMovingMesh>;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
@@ -110,24 +111,11 @@ public:
   using PointType = typename BSplineTransformType::InputPointType;
   using VectorType = typename BSplineTransformType::InputVectorType;
 
-  /** The fixed mesh (target): its vertices are sampled, its cells give the open boundary. */
-  itkSetInputMacro(FixedMesh, FixedMeshType);
-  itkGetInputMacro(FixedMesh, FixedMeshType);
-
-  /** The moving mesh (source): its vertices are sampled. */
-  itkSetInputMacro(MovingMesh, MovingMeshType);
-  itkGetInputMacro(MovingMesh, MovingMeshType);
+  // FixedMesh (its vertices are sampled, its cells give the open boundary) and MovingMesh (its vertices are
+  // sampled), GetTransformOutput(), GetTransform() and RandomSeed (of the sampling): see the superclass.
 
   /** Optional start: a BSplineTransform (cubic), whose grid and coefficients are used. */
   itkSetGetDecoratedObjectInputMacro(InitialTransform, TransformType);
-
-  /** The estimated transform, target space to source space. */
-  const DecoratedTransformType *
-  GetTransformOutput() const;
-
-  /** The estimated transform itself (null before Update()). */
-  const TransformType *
-  GetTransform() const;
 
   /** Control points per axis when there is no initial transform (>= 4). Default: 20. */
   itkSetClampMacro(NumberOfControlPointsPerAxis, unsigned int, 4, 1000);
@@ -252,10 +240,6 @@ public:
   itkGetConstMacro(UseBlockJacobiPreconditioner, bool);
   itkBooleanMacro(UseBlockJacobiPreconditioner);
 
-  /** Seed of the sampling. Default: 121212. */
-  itkSetMacro(RandomSeed, int);
-  itkGetConstMacro(RandomSeed, int);
-
   /** Run-time limit (s) of Update(); 0 (default) means none. */
   itkSetClampMacro(MaximumRunTime, double, 0.0, NumericTraits<double>::max());
   itkGetConstMacro(MaximumRunTime, double);
@@ -293,9 +277,6 @@ protected:
   void
   GenerateData() override;
 
-  using Superclass::MakeOutput;
-  DataObjectPointer MakeOutput(DataObjectPointerArraySizeType) override;
-
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
 
@@ -327,7 +308,6 @@ private:
   unsigned int m_NumberOfCoarseControlPointsPerAxis{ 7 };
   unsigned int m_CoarseCorrectionUpdateInterval{ 10 };
   bool         m_UseBlockJacobiPreconditioner{ true };
-  int          m_RandomSeed{ 121212 };
   double       m_MaximumRunTime{ 0.0 };
 
   bool                m_TimeLimitReached{ false };

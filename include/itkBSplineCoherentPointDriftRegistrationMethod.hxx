@@ -19,16 +19,16 @@
 #define itkBSplineCoherentPointDriftRegistrationMethod_hxx
 
 #include "itkBSplineCoherentPointDriftRegistrationMethod.h"
-#include "itkBSplineLatticeRegularization.h"
-#include "itkBSplineLatticeBlockJacobi.h"
-#include "itkBSplineLatticeCoarseCorrection.h"
-#include "itkBSplineSampleNormalOperator.h"
-#include "itkSparseMultipleRightHandConjugateGradient.h"
+#include "FFDShapeMatchingDetail/itkBSplineLatticeRegularization.h"
+#include "FFDShapeMatchingDetail/itkBSplineLatticeBlockJacobi.h"
+#include "FFDShapeMatchingDetail/itkBSplineLatticeCoarseCorrection.h"
+#include "FFDShapeMatchingDetail/itkBSplineSampleNormalOperator.h"
+#include "FFDShapeMatchingDetail/itkSparseMultipleRightHandConjugateGradient.h"
 #include "itkContinuousIndex.h"
-#include "itkCubicBSplineKernel.h"
+#include "FFDShapeMatchingDetail/itkCubicBSplineKernel.h"
 #include "itkMultiThreaderBase.h"
-#include "itkNeighborCandidateLists.h"
-#include "itkPointCloudKdTree.h"
+#include "FFDShapeMatchingDetail/itkNeighborCandidateLists.h"
+#include "FFDShapeMatchingDetail/itkPointCloudKdTree.h"
 #include "itkPointsLocator.h"
 #include "itkVectorContainer.h"
 
@@ -224,33 +224,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::BSplineCoh
 {
   m_TransformDomainOrigin.Fill(0.0);
   m_TransformDomainPhysicalDimensions.Fill(0.0);
-  this->SetPrimaryInputName("FixedMesh");
-  this->AddRequiredInputName("MovingMesh", 1);
   this->AddOptionalInputName("InitialTransform", 2);
-  this->SetNumberOfRequiredOutputs(1);
-  this->SetNthOutput(0, this->MakeOutput(0));
-}
-
-template <typename TFixedMesh, typename TMovingMesh>
-ProcessObject::DataObjectPointer
-BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::MakeOutput(DataObjectPointerArraySizeType)
-{
-  return DecoratedTransformType::New().GetPointer();
-}
-
-template <typename TFixedMesh, typename TMovingMesh>
-auto
-BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GetTransformOutput() const
-  -> const DecoratedTransformType *
-{
-  return static_cast<const DecoratedTransformType *>(this->ProcessObject::GetOutput(0));
-}
-
-template <typename TFixedMesh, typename TMovingMesh>
-auto
-BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GetTransform() const -> const TransformType *
-{
-  return this->GetTransformOutput()->Get();
 }
 
 template <typename TFixedMesh, typename TMovingMesh>
@@ -398,7 +372,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     {
       candidates[i] = i;
     }
-    for (const IdentifierType id : detail::DrawSampleIndices(candidates, m_NumberOfFixedSamples, m_RandomSeed))
+    for (const IdentifierType id : detail::DrawSampleIndices(candidates, m_NumberOfFixedSamples, this->GetRandomSeed()))
     {
       const PointType        p = fixedMesh->GetPoint(id);
       unsigned int           first = 0;
@@ -456,7 +430,8 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
         candidates.push_back(i);
       }
     }
-    for (const IdentifierType id : detail::DrawSampleIndices(candidates, m_NumberOfMovingSamples, m_RandomSeed + 1))
+    for (const IdentifierType id :
+         detail::DrawSampleIndices(candidates, m_NumberOfMovingSamples, this->GetRandomSeed() + 1))
     {
       x.push_back(movingMesh->GetPoint(id));
     }
@@ -983,8 +958,7 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateDa
     }
   }
   transform->SetParameters(parameters);
-  auto * output = static_cast<DecoratedTransformType *>(this->ProcessObject::GetOutput(0));
-  output->Set(transform);
+  this->SetTransformOutputValue(transform);
   this->UpdateProgress(1.0f);
 }
 
@@ -1016,7 +990,6 @@ BSplineCoherentPointDriftRegistrationMethod<TFixedMesh, TMovingMesh>::PrintSelf(
   os << indent << "NumberOfCoarseControlPointsPerAxis: " << m_NumberOfCoarseControlPointsPerAxis << std::endl;
   os << indent << "CoarseCorrectionUpdateInterval: " << m_CoarseCorrectionUpdateInterval << std::endl;
   os << indent << "UseBlockJacobiPreconditioner: " << (m_UseBlockJacobiPreconditioner ? "On" : "Off") << std::endl;
-  os << indent << "RandomSeed: " << m_RandomSeed << std::endl;
   os << indent << "MaximumRunTime: " << m_MaximumRunTime << std::endl;
   os << indent << "TimeLimitReached: " << m_TimeLimitReached << std::endl;
   os << indent << "NumberOfIterationsRun: " << m_SigmaValues.size() << std::endl;

@@ -19,7 +19,7 @@
 #define itkBSplineDeformationPenalty_hxx
 
 #include "itkBSplineDeformationPenalty.h"
-#include "itkCubicBSplineKernel.h"
+#include "FFDShapeMatchingDetail/itkCubicBSplineKernel.h"
 #include "itk_eigen.h"
 #include ITK_EIGEN(Core)
 #include <algorithm>

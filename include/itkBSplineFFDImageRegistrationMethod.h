@@ -85,10 +85,6 @@ public:
 
   // Inputs (fixed image, moving image, fixed-image mask) and the decorated transform output: see the superclass.
 
-  /** Control points per axis of the final B-spline grid (ITK mesh size N - 3). At least 4. Default: 20. */
-  itkSetClampMacro(NumberOfControlPointsPerAxis, unsigned int, 4, 1000);
-  itkGetConstMacro(NumberOfControlPointsPerAxis, unsigned int);
-
   /** Image similarity. Default: Mattes mutual information (the paper's measure). */
   itkSetEnumMacro(Metric, ImageMetricEnum);
   itkGetEnumMacro(Metric, ImageMetricEnum);
@@ -109,10 +105,8 @@ public:
   itkSetMacro(RandomSeed, int);
   itkGetConstMacro(RandomSeed, int);
 
-  /** Resolution levels; level l (from 0) shrinks the images by 2^(L-1-l) and uses a control grid about as
-   * much coarser. Default: 1. */
-  itkSetClampMacro(NumberOfLevels, unsigned int, 1, 8);
-  itkGetConstMacro(NumberOfLevels, unsigned int);
+  // NumberOfControlPointsPerAxis (default 20) and NumberOfLevels (default 1): see the superclass. Level l (from 0)
+  // also shrinks the images by 2^(L-1-l).
 
   /** Maximum optimizer iterations per level. Default: 100. */
   itkSetClampMacro(NumberOfIterations, unsigned int, 1, NumericTraits<unsigned int>::max());
@@ -169,12 +163,10 @@ public:
   /** The optimizers' stop conditions of the last Update(), one line per stage and level. */
   itkGetConstReferenceMacro(StopConditionDescription, std::string);
 
-  /** Control-grid mesh size (control points minus 3) used at a level. */
-  unsigned int
-  GetMeshSizeAtLevel(unsigned int level) const;
-
 protected:
-  BSplineFFDImageRegistrationMethod() = default;
+  BSplineFFDImageRegistrationMethod()
+    : Superclass(1)
+  {}
   ~BSplineFFDImageRegistrationMethod() override = default;
 
   void
@@ -195,13 +187,11 @@ private:
   typename BSplineTransformType::Pointer
   RunBSplineStage(const TransformType * movingInitialTransform);
 
-  unsigned int    m_NumberOfControlPointsPerAxis{ 20 };
   ImageMetricEnum m_Metric{ ImageMetricEnum::MattesMutualInformation };
   OptimizerEnum   m_Optimizer{ OptimizerEnum::LBFGSB };
   unsigned int    m_NumberOfHistogramBins{ 32 };
   double          m_SamplingPercentage{ 1.0 };
   int             m_RandomSeed{ 121212 };
-  unsigned int    m_NumberOfLevels{ 1 };
   unsigned int    m_NumberOfIterations{ 100 };
   double          m_ConvergenceTolerance{ 1e-5 };
   double          m_BendingEnergyWeight{ 0.0 };

@@ -103,18 +103,11 @@ protected:
 namespace itk
 {
 template <typename TFixedImage, typename TMovingImage>
-unsigned int
-BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::GetMeshSizeAtLevel(unsigned int level) const
-{
-  return Superclass::ComputeMeshSizeAtLevel(m_NumberOfControlPointsPerAxis, m_NumberOfLevels, level);
-}
-
-template <typename TFixedImage, typename TMovingImage>
 void
 BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::VerifyPreconditions() const
 {
   Superclass::VerifyPreconditions();
-  this->VerifyImageInputs(m_NumberOfLevels);
+  this->VerifyImageInputs();
 }
 
 template <typename TFixedImage, typename TMovingImage>
@@ -264,7 +257,7 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunBSplineStage(
   registration->SetUseTruncatedGaussian(m_UseTruncatedGaussianSmoothing);
 
   // Resolution schedule and control-grid refinement.
-  const unsigned int                                                  levels = m_NumberOfLevels;
+  const unsigned int                                                  levels = this->GetNumberOfLevels();
   typename RegistrationType::ShrinkFactorsArrayType                   shrink(levels);
   typename RegistrationType::SmoothingSigmasArrayType                 sigmas(levels);
   typename RegistrationType::TransformParametersAdaptorsContainerType adaptors;
@@ -298,7 +291,7 @@ BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::RunBSplineStage(
   // The optimizer.
   using RSGDType = RegularStepGradientDescentOptimizerv4<double>;
   const unsigned int finalNumberOfParameters =
-    ImageDimension * static_cast<unsigned int>(std::pow(m_NumberOfControlPointsPerAxis, ImageDimension));
+    ImageDimension * static_cast<unsigned int>(std::pow(this->GetNumberOfControlPointsPerAxis(), ImageDimension));
   typename ObjectToObjectOptimizerBaseTemplate<double>::Pointer optimizer;
   typename LBFGSBOptimizerv4::Pointer                           lbfgsb;
   if (m_Optimizer == OptimizerEnum::LBFGSB)
@@ -397,13 +390,11 @@ void
 BSplineFFDImageRegistrationMethod<TFixedImage, TMovingImage>::PrintSelf(std::ostream & os, Indent indent) const
 {
   Superclass::PrintSelf(os, indent);
-  os << indent << "NumberOfControlPointsPerAxis: " << m_NumberOfControlPointsPerAxis << std::endl;
   os << indent << "Metric: " << m_Metric << std::endl;
   os << indent << "Optimizer: " << m_Optimizer << std::endl;
   os << indent << "NumberOfHistogramBins: " << m_NumberOfHistogramBins << std::endl;
   os << indent << "SamplingPercentage: " << m_SamplingPercentage << std::endl;
   os << indent << "RandomSeed: " << m_RandomSeed << std::endl;
-  os << indent << "NumberOfLevels: " << m_NumberOfLevels << std::endl;
   os << indent << "NumberOfIterations: " << m_NumberOfIterations << std::endl;
   os << indent << "ConvergenceTolerance: " << m_ConvergenceTolerance << std::endl;
   os << indent << "BendingEnergyWeight: " << m_BendingEnergyWeight << std::endl;

@@ -41,9 +41,12 @@ namespace itk
  * A run-time limit (MaximumRunTime) stops either method's optimization cleanly with the best transform reached so
  * far; GetTimeLimitReached() tells whether the last Update() stopped there.
  *
- * A derived class implements GenerateData() and sets its result with SetTransformOutputValue(); its
- * VerifyPreconditions() calls VerifyImageInputs() with its number of levels. Its GenerateData() starts the clock
- * with StartRunTimeClock() and asks CheckRunTime() (or, from worker threads, IsRunTimeExceeded()) where it can stop.
+ * The final control grid (NumberOfControlPointsPerAxis) and the resolution levels (NumberOfLevels, with the grid of
+ * each level from GetMeshSizeAtLevel()) are the same for every derived method; each passes its default number of
+ * levels to this class's constructor. A derived class implements GenerateData() and sets its result with
+ * SetTransformOutputValue(); its GenerateData() calls VerifyImageInputs(), which also checks the grid and the
+ * levels, starts the clock with StartRunTimeClock() and asks CheckRunTime() (or, from worker threads,
+ * IsRunTimeExceeded()) where it can stop.
  *
  * \sa BSplineFFDImageRegistrationMethod, BSplineMRFImageRegistrationMethod
  * \ingroup FFDShapeMatching
@@ -99,6 +102,24 @@ public:
   /** Whether the last Update() stopped at MaximumRunTime. */
   itkGetConstMacro(TimeLimitReached, bool);
 
+  /** Control points per axis of the final B-spline grid (ITK mesh size N - 3), at least 4 (Update() refuses fewer).
+   * Default: 20. */
+  itkSetMacro(NumberOfControlPointsPerAxis, unsigned int);
+  itkGetConstMacro(NumberOfControlPointsPerAxis, unsigned int);
+
+  /** Resolution levels, 1 to 8 (Update() refuses others): level l (from 0) uses a control grid about 2^(L-1-l)
+   * times coarser than the final one (GetMeshSizeAtLevel()); the derived class says what else a level changes.
+   * Default: the derived class's (GO 1, MRF 3). */
+  itkSetMacro(NumberOfLevels, unsigned int);
+  itkGetConstMacro(NumberOfLevels, unsigned int);
+
+  /** Control-grid mesh size (control points minus 3) used at a level of this method's schedule. */
+  unsigned int
+  GetMeshSizeAtLevel(unsigned int level) const
+  {
+    return ComputeMeshSizeAtLevel(m_NumberOfControlPointsPerAxis, m_NumberOfLevels, level);
+  }
+
   /** Control-grid mesh size (control points minus 3) of a level of a schedule with numberOfLevels levels ending
    * with numberOfControlPointsPerAxis control points per axis: the final mesh size halved per coarser level,
    * rounded, at least 1. */
@@ -106,13 +127,15 @@ public:
   ComputeMeshSizeAtLevel(unsigned int numberOfControlPointsPerAxis, unsigned int numberOfLevels, unsigned int level);
 
 protected:
-  BSplineImageRegistrationMethodBase();
+  /** \c numberOfLevels: the derived method's default NumberOfLevels. */
+  explicit BSplineImageRegistrationMethodBase(unsigned int numberOfLevels);
   ~BSplineImageRegistrationMethodBase() override = default;
 
-  /** Checks that the fixed and moving images are not empty, the mask (if any) is not empty, and both images have
-   * at least 2^numberOfLevels voxels along every axis; throws an ExceptionObject naming the problem. */
+  /** Checks the grid (at least 4 control points per axis) and the levels (1 to 8), that the fixed and moving images
+   * are not empty, the mask (if any) is not empty, and both images have at least 2^NumberOfLevels voxels along every
+   * axis; throws an ExceptionObject naming the problem. */
   void
-  VerifyImageInputs(unsigned int numberOfLevels) const;
+  VerifyImageInputs() const;
 
   /** Starts the clock of MaximumRunTime (at the start of GenerateData()) and clears TimeLimitReached. */
   void
@@ -142,6 +165,8 @@ protected:
   DataObjectPointer MakeOutput(DataObjectPointerArraySizeType) override;
 
 private:
+  unsigned int                          m_NumberOfControlPointsPerAxis{ 20 };
+  unsigned int                          m_NumberOfLevels;
   double                                m_MaximumRunTime{ 0.0 };
   bool                                  m_TimeLimitReached{ false };
   std::chrono::steady_clock::time_point m_StartTime{};

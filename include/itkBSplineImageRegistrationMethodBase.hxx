@@ -25,7 +25,9 @@
 namespace itk
 {
 template <typename TFixedImage, typename TMovingImage>
-BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>::BSplineImageRegistrationMethodBase()
+BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>::BSplineImageRegistrationMethodBase(
+  unsigned int numberOfLevels)
+  : m_NumberOfLevels(numberOfLevels)
 {
   this->SetPrimaryInputName("FixedImage");
   this->AddRequiredInputName("MovingImage", 1);
@@ -102,6 +104,8 @@ void
 BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>::PrintSelf(std::ostream & os, Indent indent) const
 {
   Superclass::PrintSelf(os, indent);
+  os << indent << "NumberOfControlPointsPerAxis: " << m_NumberOfControlPointsPerAxis << std::endl;
+  os << indent << "NumberOfLevels: " << m_NumberOfLevels << std::endl;
   os << indent << "MaximumRunTime: " << m_MaximumRunTime << std::endl;
   os << indent << "TimeLimitReached: " << (m_TimeLimitReached ? "true" : "false") << std::endl;
 }
@@ -122,10 +126,19 @@ BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>::ComputeMeshSizeAt
 
 template <typename TFixedImage, typename TMovingImage>
 void
-BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>::VerifyImageInputs(unsigned int numberOfLevels) const
+BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>::VerifyImageInputs() const
 {
-  const auto * fixed = this->GetFixedImage();
-  const auto * moving = this->GetMovingImage();
+  if (m_NumberOfControlPointsPerAxis < 4)
+  {
+    itkExceptionMacro(<< "NumberOfControlPointsPerAxis must be at least 4, is " << m_NumberOfControlPointsPerAxis);
+  }
+  if (m_NumberOfLevels < 1 || m_NumberOfLevels > 8)
+  {
+    itkExceptionMacro(<< "NumberOfLevels must be in [1, 8], is " << m_NumberOfLevels);
+  }
+  const unsigned int numberOfLevels = m_NumberOfLevels;
+  const auto *       fixed = this->GetFixedImage();
+  const auto *       moving = this->GetMovingImage();
   if (fixed->GetLargestPossibleRegion().GetNumberOfPixels() == 0 ||
       moving->GetLargestPossibleRegion().GetNumberOfPixels() == 0)
   {

@@ -21,7 +21,7 @@
 #include "itkFFDShapeMatchingCompatibility.h"
 #include "itkBSplineMRFImageRegistrationMethodEnums.h"
 #include "itkBSplineImageRegistrationMethodBase.h"
-#include "itkBSplineMRFUnaryCosts.h"
+#include "FFDShapeMatchingDetail/itkBSplineMRFUnaryCosts.h"
 #include "itkMRFLabelingSolver.h"
 #include <array>
 #include <vector>
@@ -146,13 +146,8 @@ public:
 
   // Inputs (fixed image, moving image, fixed-image mask) and the decorated transform output: see the superclass.
 
-  /** Control points per axis of the final B-spline grid (ITK mesh size N - 3). At least 4. Default: 20. */
-  itkSetMacro(NumberOfControlPointsPerAxis, unsigned int);
-  itkGetConstMacro(NumberOfControlPointsPerAxis, unsigned int);
-
-  /** Resolution levels (image pyramid and control-grid refinement), 1 to 8. Default: 3. */
-  itkSetMacro(NumberOfLevels, unsigned int);
-  itkGetConstMacro(NumberOfLevels, unsigned int);
+  // NumberOfControlPointsPerAxis (default 20) and NumberOfLevels (default 3; image pyramid with UseImagePyramid and
+  // control-grid refinement): see the superclass.
 
   /** MRF iterations (label range shrinking after each) per level, at least 1. Default: 5. */
   itkSetMacro(NumberOfIterationsPerLevel, unsigned int);
@@ -250,10 +245,6 @@ public:
   /** Smallest Jacobian determinant of the result, sampled at 2 points per axis in each control cell. */
   itkGetConstMacro(MinimumJacobianDeterminant, double);
 
-  /** Control-grid mesh size (control points minus 3) used at a level. */
-  unsigned int
-  GetMeshSizeAtLevel(unsigned int level) const;
-
   /** The label displacements (mm) for a largest step \c maximumDisplacement; the first is zero. */
   std::vector<DisplacementType>
   MakeLabels(double maximumDisplacement) const;
@@ -274,7 +265,9 @@ public:
   PointwiseCost(double fixedValue, double movingValue) const;
 
 protected:
-  BSplineMRFImageRegistrationMethod() = default;
+  BSplineMRFImageRegistrationMethod()
+    : Superclass(3)
+  {}
   ~BSplineMRFImageRegistrationMethod() override = default;
 
   void
@@ -332,8 +325,6 @@ private:
   void
   RunLevel(unsigned int level, BSplineTransformType * transform, unsigned int & iterationCount);
 
-  unsigned int         m_NumberOfControlPointsPerAxis{ 20 };
-  unsigned int         m_NumberOfLevels{ 3 };
   unsigned int         m_NumberOfIterationsPerLevel{ 5 };
   LabelSetEnum         m_LabelSet{ LabelSetEnum::Sparse };
   unsigned int         m_NumberOfLabelSteps{ 3 };

@@ -22,10 +22,10 @@
 #include "itkBSplineTransformInitializer.h"
 #include "itkBSplineTransformParametersAdaptor.h"
 #include "itkCastImageFilter.h"
-#include "itkCubicBSplineKernel.h"
+#include "FFDShapeMatchingDetail/itkCubicBSplineKernel.h"
 #include "itkDiscreteGaussianImageFilter.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
-#include "itkMatrixDeterminant.h"
+#include "FFDShapeMatchingDetail/itkMatrixDeterminant.h"
 #include "itkMultiThreaderBase.h"
 #include <functional>
 #include "itkShrinkImageFilter.h"
@@ -36,13 +36,6 @@
 
 namespace itk
 {
-template <typename TFixedImage, typename TMovingImage>
-unsigned int
-BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::GetMeshSizeAtLevel(unsigned int level) const
-{
-  return Superclass::ComputeMeshSizeAtLevel(m_NumberOfControlPointsPerAxis, m_NumberOfLevels, level);
-}
-
 template <typename TFixedImage, typename TMovingImage>
 auto
 BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::MakeLabels(double maximumDisplacement) const
@@ -107,14 +100,6 @@ void
 BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::VerifyPreconditions() const
 {
   Superclass::VerifyPreconditions();
-  if (m_NumberOfControlPointsPerAxis < 4)
-  {
-    itkExceptionMacro(<< "NumberOfControlPointsPerAxis must be at least 4, is " << m_NumberOfControlPointsPerAxis);
-  }
-  if (m_NumberOfLevels < 1 || m_NumberOfLevels > 8)
-  {
-    itkExceptionMacro(<< "NumberOfLevels must be in [1, 8], is " << m_NumberOfLevels);
-  }
   if (m_NumberOfIterationsPerLevel < 1)
   {
     itkExceptionMacro(<< "NumberOfIterationsPerLevel must be at least 1");
@@ -152,7 +137,7 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::VerifyPrecondition
   {
     itkExceptionMacro(<< "The exhaustive solver is for tiny test graphs only");
   }
-  this->VerifyImageInputs(m_NumberOfLevels);
+  this->VerifyImageInputs();
 }
 
 template <typename TFixedImage, typename TMovingImage>
@@ -179,7 +164,7 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::GenerateData()
   transform->SetIdentity();
 
   unsigned int iterationCount = 0;
-  for (unsigned int level = 0; level < m_NumberOfLevels; ++level)
+  for (unsigned int level = 0; level < this->GetNumberOfLevels(); ++level)
   {
     if (level > 0 && this->GetMeshSizeAtLevel(level) != this->GetMeshSizeAtLevel(level - 1))
     {
@@ -650,7 +635,7 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::RunLevel(unsigned 
                                                                        BSplineTransformType * transform,
                                                                        unsigned int &         iterationCount)
 {
-  const unsigned int   factor = m_UseImagePyramid ? 1u << (m_NumberOfLevels - 1 - level) : 1u;
+  const unsigned int   factor = m_UseImagePyramid ? 1u << (this->GetNumberOfLevels() - 1 - level) : 1u;
   InternalImagePointer fixed = MakeLevelImage(this->GetFixedImage(), factor);
   InternalImagePointer moving = MakeLevelImage(this->GetMovingImage(), factor);
 
@@ -685,7 +670,7 @@ BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::RunLevel(unsigned 
 
   const std::vector<DisplacementType> zeroLabel(1, MakeLabels(0.0)[0]);
   std::vector<DisplacementType>       edgeDifferences(edges.size());
-  const double totalIterations = static_cast<double>(m_NumberOfIterationsPerLevel) * m_NumberOfLevels;
+  const double totalIterations = static_cast<double>(m_NumberOfIterationsPerLevel) * this->GetNumberOfLevels();
   for (unsigned int iteration = 0; iteration < m_NumberOfIterationsPerLevel; ++iteration)
   {
     if (this->GetAbortGenerateData())
@@ -805,8 +790,6 @@ void
 BSplineMRFImageRegistrationMethod<TFixedImage, TMovingImage>::PrintSelf(std::ostream & os, Indent indent) const
 {
   Superclass::PrintSelf(os, indent);
-  os << indent << "NumberOfControlPointsPerAxis: " << m_NumberOfControlPointsPerAxis << std::endl;
-  os << indent << "NumberOfLevels: " << m_NumberOfLevels << std::endl;
   os << indent << "NumberOfIterationsPerLevel: " << m_NumberOfIterationsPerLevel << std::endl;
   os << indent << "LabelSet: " << m_LabelSet << std::endl;
   os << indent << "NumberOfLabelSteps: " << m_NumberOfLabelSteps << std::endl;

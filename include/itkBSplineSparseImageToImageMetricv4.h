@@ -19,10 +19,10 @@
 #define itkBSplineSparseImageToImageMetricv4_h
 
 #include "itkFFDShapeMatchingCompatibility.h"
-#include "itkBSplineCompositeTransformParts.h"
+#include "FFDShapeMatchingDetail/itkBSplineCompositeTransformParts.h"
 #include "itkBSplineTransform.h"
 #include "itkFFDShapeMatchingEnums.h"
-#include "itkImageBufferGrid.h"
+#include "FFDShapeMatchingDetail/itkImageBufferGrid.h"
 #include "itkImageToImageMetricv4.h"
 #include "itkMultiThreaderBase.h"
 

@@ -19,9 +19,9 @@
 #define itkBSplineSparseImageToImageMetricv4_hxx
 
 #include "itkBSplineSparseImageToImageMetricv4.h"
-#include "itkMattesMutualInformation.h"
+#include "FFDShapeMatchingDetail/itkMattesMutualInformation.h"
 #include "itkCompositeTransform.h"
-#include "itkCubicBSplineKernel.h"
+#include "FFDShapeMatchingDetail/itkCubicBSplineKernel.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
 #include "itkMath.h"
 

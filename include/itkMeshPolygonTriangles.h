@@ -23,8 +23,6 @@
 
 namespace itk
 {
-namespace detail
-{
 /** Calls visit(cellIdentifier, pointIds) for each triangle of the polygon cells of a mesh, where pointIds is an
  * array of the triangle's three point identifiers. Triangle, quadrilateral and polygon cells with at least three
  * points are fan-triangulated from their first point, in cell order and point order; cells of other types
@@ -33,7 +31,8 @@ namespace detail
  * point means.
  *
  * This is the one place where the module turns a polygon mesh into triangles: the voxelizer, the exact distances,
- * the pose stage's surface samples and the programs' triangulated copies all see the same triangles.
+ * the pose stage's surface samples and the programs' triangulated copies all see the same triangles; a program that
+ * needs the triangles the module's filters see calls it too.
  *
  * \ingroup FFDShapeMatching
  */
@@ -75,7 +74,6 @@ ForEachPolygonTriangle(const TMesh * mesh, TVisitor && visit, bool volumeCellsAr
     }
   }
 }
-} // namespace detail
 } // namespace itk
 
 #endif // itkMeshPolygonTriangles_h

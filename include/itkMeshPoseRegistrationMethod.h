@@ -19,10 +19,10 @@
 #define itkMeshPoseRegistrationMethod_h
 
 #include "itkFFDShapeMatchingCompatibility.h"
+#include "itkMeshRegistrationMethodBase.h"
 #include "itkDataObjectDecorator.h"
 #include "itkFFDShapeMatchingEnums.h"
 #include "itkMatrix.h"
-#include "itkProcessObject.h"
 #include "itkTransform.h"
 #include "itkVector.h"
 
@@ -89,13 +89,13 @@ namespace itk
  * \ingroup FFDShapeMatching
  */
 template <typename TFixedMesh, typename TMovingMesh = TFixedMesh>
-class ITK_TEMPLATE_EXPORT MeshPoseRegistrationMethod : public ProcessObject
+class ITK_TEMPLATE_EXPORT MeshPoseRegistrationMethod : public MeshRegistrationMethodBase<TFixedMesh, TMovingMesh>
 {
 public:
   ITK_DISALLOW_COPY_AND_MOVE(MeshPoseRegistrationMethod);
 
   using Self = MeshPoseRegistrationMethod;
-  using Superclass = ProcessObject;
+  using Superclass = MeshRegistrationMethodBase<TFixedMesh, TMovingMesh>;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
@@ -114,13 +114,8 @@ public:
   using VectorType = Vector<double, Dimension>;
   using MatrixType = Matrix<double, Dimension, Dimension>;
 
-  /** The target mesh (fixed; may be a partial, open surface). */
-  itkSetInputMacro(FixedMesh, FixedMeshType);
-  itkGetInputMacro(FixedMesh, FixedMeshType);
-
-  /** The source mesh (moving). */
-  itkSetInputMacro(MovingMesh, MovingMeshType);
-  itkGetInputMacro(MovingMesh, MovingMeshType);
+  // FixedMesh (target) and MovingMesh (source), GetTransformOutput() and GetTransform() (A : target space -> source
+  // space) and RandomSeed (of the surface samples): see the superclass.
 
   /** Rigid, Similarity (default) or Affine; None is refused. */
   itkSetEnumMacro(PoseType, PoseTypeEnum);
@@ -190,21 +185,6 @@ public:
   itkSetClampMacro(NumberOfIterations, unsigned int, 1, 100000);
   itkGetConstMacro(NumberOfIterations, unsigned int);
 
-  /** Seed of the surface samples. Default: 121212. */
-  itkSetMacro(RandomSeed, int);
-  itkGetConstMacro(RandomSeed, int);
-
-  /** A : target space -> source space, as a decorated output. */
-  const DecoratedTransformType *
-  GetTransformOutput() const;
-
-  /** A itself (after Update()). */
-  const TransformType *
-  GetTransform() const
-  {
-    return this->GetTransformOutput()->Get();
-  }
-
   /** The pose of the last Update(), decomposed: the rotation angle in degrees (0 to 180) and its unit axis, the
    * (isotropic) scale, the translation of the target centroid, and the linear part and offset (A(x) = M x + o). */
   itkGetConstMacro(RotationAngle, double);
@@ -233,11 +213,6 @@ protected:
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
 
-  using DataObjectPointerArraySizeType = ProcessObject::DataObjectPointerArraySizeType;
-  using Superclass::MakeOutput;
-  ProcessObject::DataObjectPointer
-  MakeOutput(DataObjectPointerArraySizeType index) override;
-
   void
   VerifyPreconditions() const override;
 
@@ -260,7 +235,6 @@ private:
   double       m_TrimFraction{ 0.85 };
   double       m_PolishTrimFraction{ 1.0 };
   unsigned int m_NumberOfIterations{ 50 };
-  int          m_RandomSeed{ 121212 };
 
   double        m_RotationAngle{ 0.0 };
   VectorType    m_RotationAxis{};

@@ -23,9 +23,9 @@
 #include "itkMath.h"
 #include "itkMeshPolygonTriangles.h"
 #include "itkMultiThreaderBase.h"
-#include "itkPointCloudKdTree.h"
+#include "FFDShapeMatchingDetail/itkPointCloudKdTree.h"
 #include "itkSimilarity3DTransform.h"
-#include "itkTriangleBoundingVolumeHierarchy.h"
+#include "FFDShapeMatchingDetail/itkTriangleBoundingVolumeHierarchy.h"
 #include "itkVersorRigid3DTransform.h"
 
 #include "itk_eigen.h"
@@ -152,7 +152,7 @@ SampleMeshSurface(const TMesh *                     mesh,
     }
     return Eigen::Vector3d(p[0], p[1], p[2]);
   };
-  detail::ForEachPolygonTriangle(mesh, [&](IdentifierType, const typename TMesh::PointIdentifier * ids) {
+  ForEachPolygonTriangle(mesh, [&](IdentifierType, const typename TMesh::PointIdentifier * ids) {
     const std::array<Eigen::Vector3d, 3> triangle{ { corner(ids[0]), corner(ids[1]), corner(ids[2]) } };
     const double area = 0.5 * (triangle[1] - triangle[0]).cross(triangle[2] - triangle[0]).norm();
     if (area > 0.0 && std::isfinite(area))
@@ -584,24 +584,6 @@ MeshPoseRegistrationMethod<TFixedMesh, TMovingMesh>::MeshPoseRegistrationMethod(
   m_Translation.Fill(0.0);
   m_Matrix.SetIdentity();
   m_Offset.Fill(0.0);
-  this->SetPrimaryInputName("FixedMesh");
-  this->AddRequiredInputName("MovingMesh", 1);
-  this->SetNumberOfRequiredOutputs(1);
-  this->SetNthOutput(0, this->MakeOutput(0));
-}
-
-template <typename TFixedMesh, typename TMovingMesh>
-ProcessObject::DataObjectPointer
-MeshPoseRegistrationMethod<TFixedMesh, TMovingMesh>::MakeOutput(DataObjectPointerArraySizeType)
-{
-  return DecoratedTransformType::New().GetPointer();
-}
-
-template <typename TFixedMesh, typename TMovingMesh>
-auto
-MeshPoseRegistrationMethod<TFixedMesh, TMovingMesh>::GetTransformOutput() const -> const DecoratedTransformType *
-{
-  return static_cast<const DecoratedTransformType *>(this->ProcessObject::GetOutput(0));
 }
 
 template <typename TFixedMesh, typename TMovingMesh>
@@ -625,7 +607,7 @@ MeshPoseRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateData()
   const auto start = ClockType::now();
 
   // Samples of both surfaces; the first score samples of the target are also its first refinement samples.
-  std::mt19937                       random(static_cast<std::mt19937::result_type>(m_RandomSeed));
+  std::mt19937                       random(static_cast<std::mt19937::result_type>(this->GetRandomSeed()));
   const std::vector<Eigen::Vector3d> target = detail::SampleMeshSurface(
     this->GetFixedMesh(), std::max(m_NumberOfRefinementSamples, m_NumberOfScoreSamples), random, "fixed (target)");
   std::vector<Eigen::Vector3d>            normals;
@@ -857,7 +839,7 @@ MeshPoseRegistrationMethod<TFixedMesh, TMovingMesh>::GenerateData()
       result = similarity;
     }
   }
-  static_cast<DecoratedTransformType *>(this->ProcessObject::GetOutput(0))->Set(result);
+  this->SetTransformOutputValue(result);
 }
 
 template <typename TFixedMesh, typename TMovingMesh>
@@ -880,7 +862,6 @@ MeshPoseRegistrationMethod<TFixedMesh, TMovingMesh>::PrintSelf(std::ostream & os
   os << indent << "TrimFraction: " << m_TrimFraction << std::endl;
   os << indent << "PolishTrimFraction: " << m_PolishTrimFraction << std::endl;
   os << indent << "NumberOfIterations: " << m_NumberOfIterations << std::endl;
-  os << indent << "RandomSeed: " << m_RandomSeed << std::endl;
   os << indent << "RotationAngle: " << m_RotationAngle << std::endl;
   os << indent << "RotationAxis: " << m_RotationAxis << std::endl;
   os << indent << "Scale: " << m_Scale << std::endl;

@@ -33,7 +33,7 @@
 #include "itkMeshToMeshFilter.h"
 #include "itkParametricTemplateRegistrationMethod.h"
 #include "itkParametricTemplateTransform.h"
-#include "itkPoseCorrection.h"
+#include "FFDShapeMatchingDetail/itkPoseCorrection.h"
 #include "itkTransform.h"
 #include "itkTriangleMeshToVoxelImageFilter.h"
 
@@ -146,6 +146,7 @@ public:
   using InitialTransformEnum = FFDShapeMatchingEnums::InitialTransform;
   using PoseRegistrationType = MeshPoseRegistrationMethod<MeshType, MeshType>;
   using CompositeTransformType = CompositeTransform<double, Dimension>;
+  using PoseVectorType = Vector<double, Dimension>;
 
   /** The mesh that is moved (the same as SetInput()). */
   void
@@ -332,6 +333,15 @@ public:
   itkGetConstReferenceMacro(PoseRefinementResiduals, std::vector<double>);
   itkGetConstMacro(PoseRefinementTime, double);
 
+  /** GetPoseTransform() decomposed, after Update() with a pose stage: the angle in degrees (0 to 180) and the unit
+   * axis of its rotation (the polar factor of its linear part), its isotropic scale (1 for a rigid pose, else the
+   * cube root of the absolute determinant of its linear part) and the translation of its center (where the center
+   * goes, minus where it was). Without a pose stage: angle 0, axis (0, 0, 1), scale 1, no translation. */
+  itkGetConstMacro(PoseRotationAngle, double);
+  itkGetConstReferenceMacro(PoseRotationAxis, PoseVectorType);
+  itkGetConstMacro(PoseScale, double);
+  itkGetConstReferenceMacro(PoseTranslation, PoseVectorType);
+
   /** The target as the deformation stage sees it: moved into the source frame by the pose (the target itself
    * without a pose stage). */
   const MeshType *
@@ -418,6 +428,11 @@ private:
   /** Runs the pose stage and moves the target into the source frame (m_MatchingTarget). */
   void
   FindPose();
+
+  /** Decomposes m_PoseTransform into m_PoseRotationAngle, m_PoseRotationAxis, m_PoseScale and m_PoseTranslation,
+   * or resets them to the identity's when there is no pose. */
+  void
+  DecomposePose();
 
   /** Moves the target into the source frame by the pose \c pose (m_MatchingTarget, m_PoseTransform). */
   void
@@ -520,6 +535,10 @@ private:
   double              m_MeshTransformTime{ 0.0 };
   std::vector<double> m_PoseRefinementResiduals;
   double              m_PoseRefinementTime{ 0.0 };
+  double              m_PoseRotationAngle{ 0.0 };
+  PoseVectorType      m_PoseRotationAxis;
+  double              m_PoseScale{ 1.0 };
+  PoseVectorType      m_PoseTranslation;
 
   typename PoseRegistrationType::Pointer        m_PoseRegistration;
   typename MeshTransformFilterType::Pointer     m_PoseTransformFilter;

@@ -65,6 +65,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::MeshShapeMatchingFilter()
   // in the same iterations (benchmark/PEERS_MESH.md, "Momentum as the default").
   m_CPDRegistration->SetMomentum(0.9);
   this->SetNthOutput(1, this->MakeOutput(1));
+  this->DecomposePose(); // no pose yet: the identity's parts
 }
 
 template <typename TMesh, typename TImage>
@@ -170,6 +171,48 @@ MeshShapeMatchingFilter<TMesh, TImage>::FindPose()
     itkExceptionMacro(<< "the pose stage failed: " << error.GetDescription());
   }
   this->MoveTarget(m_PoseRegistration->GetTransform());
+}
+
+template <typename TMesh, typename TImage>
+void
+MeshShapeMatchingFilter<TMesh, TImage>::DecomposePose()
+{
+  m_PoseRotationAngle = 0.0;
+  m_PoseRotationAxis.Fill(0.0);
+  m_PoseRotationAxis[2] = 1.0;
+  m_PoseScale = 1.0;
+  m_PoseTranslation.Fill(0.0);
+  if (m_PoseTransform.IsNull())
+  {
+    return;
+  }
+  using LinearTransformType = MatrixOffsetTransformBase<double, Dimension, Dimension>;
+  const auto * linear = dynamic_cast<const LinearTransformType *>(m_PoseTransform.GetPointer());
+  if (linear == nullptr)
+  {
+    itkExceptionMacro(<< "the pose is not a matrix-and-offset transform");
+  }
+  Eigen::Matrix3d matrix;
+  Eigen::Vector3d offset;
+  Eigen::Vector3d center;
+  for (unsigned int d = 0; d < Dimension; ++d)
+  {
+    offset[d] = linear->GetOffset()[d];
+    center[d] = linear->GetCenter()[d];
+    for (unsigned int e = 0; e < Dimension; ++e)
+    {
+      matrix(d, e) = linear->GetMatrix()(d, e);
+    }
+  }
+  const detail::MeshPoseDecomposition parts =
+    detail::DecomposeMeshPose(matrix, offset, center, m_InitialTransform == InitialTransformEnum::Rigid);
+  m_PoseRotationAngle = parts.Angle;
+  m_PoseScale = parts.Scale;
+  for (unsigned int d = 0; d < Dimension; ++d)
+  {
+    m_PoseRotationAxis[d] = parts.Axis[d];
+    m_PoseTranslation[d] = parts.Translation[d];
+  }
 }
 
 template <typename TMesh, typename TImage>
@@ -838,6 +881,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::GenerateData()
     m_PoseRefinementTime = detail::SecondsSince(refinementStart);
   }
   m_DeformationTransform = transform;
+  this->DecomposePose();
   if (posed)
   {
     // T = B o A: a CompositeTransform applies the transform added last first. It only reads its parts.
@@ -894,6 +938,10 @@ MeshShapeMatchingFilter<TMesh, TImage>::PrintSelf(std::ostream & os, Indent inde
   os << indent << "PoseRefinementScaleStep: " << m_PoseRefinementScaleStep << std::endl;
   os << indent << "NumberOfPoseRefinementResiduals: " << m_PoseRefinementResiduals.size() << std::endl;
   os << indent << "PoseRefinementTime: " << m_PoseRefinementTime << std::endl;
+  os << indent << "PoseRotationAngle: " << m_PoseRotationAngle << std::endl;
+  os << indent << "PoseRotationAxis: " << m_PoseRotationAxis << std::endl;
+  os << indent << "PoseScale: " << m_PoseScale << std::endl;
+  os << indent << "PoseTranslation: " << m_PoseTranslation << std::endl;
   os << indent << "MetricName: " << m_MetricName << std::endl;
   os << indent << "NumberOfMetricValues: " << m_MetricValues.size() << std::endl;
   os << indent << "TimeLimitReached: " << m_TimeLimitReached << std::endl;

@@ -21,7 +21,7 @@
 #include "itkFFDShapeMatchingCompatibility.h"
 #include "itkObject.h"
 #include "itkObjectFactory.h"
-#include "itkTriangleBoundingVolumeHierarchy.h"
+#include "FFDShapeMatchingDetail/itkTriangleBoundingVolumeHierarchy.h"
 #include <vector>
 
 namespace itk

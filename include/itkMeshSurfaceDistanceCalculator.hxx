@@ -47,7 +47,7 @@ MeshSurfaceDistanceCalculator<TSourceMesh, TTargetMesh>::ExtractTriangles(const 
     };
   };
   triangles.reserve(cells->Size());
-  detail::ForEachPolygonTriangle(mesh, [&](IdentifierType, const typename TMesh::PointIdentifier * ids) {
+  ForEachPolygonTriangle(mesh, [&](IdentifierType, const typename TMesh::PointIdentifier * ids) {
     triangles.push_back({ toVector(ids[0]), toVector(ids[1]), toVector(ids[2]) });
   });
   return triangles;

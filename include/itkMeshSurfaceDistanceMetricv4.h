@@ -22,7 +22,7 @@
 #include "itkBSplineInterpolateImageFunction.h"
 #include "itkImage.h"
 #include "itkObjectToObjectMetric.h"
-#include "itkTriangleBoundingVolumeHierarchy.h"
+#include "FFDShapeMatchingDetail/itkTriangleBoundingVolumeHierarchy.h"
 #include <array>
 #include <cstdint>
 #include <ostream>

@@ -19,11 +19,11 @@
 #define itkParametricTemplateRegistrationMethod_h
 
 #include "itkFFDShapeMatchingCompatibility.h"
+#include "itkMeshRegistrationMethodBase.h"
 #include "itkDataObjectDecorator.h"
 #include "itkImage.h"
 #include "itkMeshSurfaceDistanceMetricv4.h"
 #include "itkParametricTemplateTransform.h"
-#include "itkProcessObject.h"
 #include "itkTransform.h"
 #include <chrono>
 #include <cstdint>
@@ -133,13 +133,14 @@ operator<<(std::ostream & out, const ParametricTemplateRegistrationMethodEnums::
  * \ingroup FFDShapeMatching
  */
 template <typename TFixedMesh, typename TMovingMesh = TFixedMesh, typename TDistanceImage = Image<float, 3>>
-class ITK_TEMPLATE_EXPORT ParametricTemplateRegistrationMethod : public ProcessObject
+class ITK_TEMPLATE_EXPORT ParametricTemplateRegistrationMethod
+  : public MeshRegistrationMethodBase<TFixedMesh, TMovingMesh>
 {
 public:
   ITK_DISALLOW_COPY_AND_MOVE(ParametricTemplateRegistrationMethod);
 
   using Self = ParametricTemplateRegistrationMethod;
-  using Superclass = ProcessObject;
+  using Superclass = MeshRegistrationMethodBase<TFixedMesh, TMovingMesh>;
   using Pointer = SmartPointer<Self>;
   using ConstPointer = SmartPointer<const Self>;
 
@@ -157,14 +158,9 @@ public:
   using OptimizerEnum = ParametricTemplateRegistrationMethodEnums::Optimizer;
   using BaseTransformModeEnum = ParametricTemplateRegistrationMethodEnums::BaseTransformMode;
 
-  /** The fixed mesh (target): its vertices are mapped by T. */
-  itkSetInputMacro(FixedMesh, FixedMeshType);
-  itkGetInputMacro(FixedMesh, FixedMeshType);
-
-  /** The moving mesh (source): its surface is measured to. Needed unless a moving distance image is given (and for
-   * exact evaluation). */
-  itkSetInputMacro(MovingMesh, MovingMeshType);
-  itkGetInputMacro(MovingMesh, MovingMeshType);
+  // FixedMesh (its vertices are mapped by T) and MovingMesh (its surface is measured to; needed unless a
+  // MovingDistanceImage is given, and for exact evaluation), GetTransformOutput(), GetTransform() and RandomSeed (of
+  // the (1+1) strategy's normal variates): see the superclass.
 
   /** Optional signed distance image of the moving surface (e.g. from TriangleMeshToVoxelImageFilter). */
   itkSetInputMacro(MovingDistanceImage, DistanceImageType);
@@ -175,14 +171,6 @@ public:
 
   /** Optional base deformation replacing the template transform's base (GO or MRF result). */
   itkSetGetDecoratedObjectInputMacro(BaseTransform, TransformType);
-
-  /** The estimated transform, target space to source space. */
-  const DecoratedTransformType *
-  GetTransformOutput() const;
-
-  /** The estimated transform itself (null before Update()). */
-  const TransformType *
-  GetTransform() const;
 
   /** The estimated transform as a ParametricTemplateTransform (null before Update()). */
   const ParametricTransformType *
@@ -243,10 +231,6 @@ public:
   itkSetClampMacro(InitialSearchRadius, double, 1e-12, NumericTraits<double>::max());
   itkGetConstMacro(InitialSearchRadius, double);
 
-  /** Seed of the (1+1) strategy's normal variates. Default: 121212. */
-  itkSetMacro(RandomSeed, int);
-  itkGetConstMacro(RandomSeed, int);
-
   /** How the base transform input is used. Default: ProjectOntoTemplates. */
   itkSetEnumMacro(BaseTransformMode, BaseTransformModeEnum);
   itkGetEnumMacro(BaseTransformMode, BaseTransformModeEnum);
@@ -291,9 +275,6 @@ protected:
   void
   GenerateData() override;
 
-  using Superclass::MakeOutput;
-  DataObjectPointer MakeOutput(DataObjectPointerArraySizeType) override;
-
   void
   PrintSelf(std::ostream & os, Indent indent) const override;
 
@@ -319,7 +300,6 @@ private:
   double                m_ConvergenceTolerance{ 1e-5 };
   double                m_WeightBound{ 0.0 };
   double                m_InitialSearchRadius{ 0.5 };
-  int                   m_RandomSeed{ 121212 };
   bool                  m_ResampleBaseTransform{ true };
   BaseTransformModeEnum m_BaseTransformMode{ BaseTransformModeEnum::ProjectOntoTemplates };
   bool                  m_UseSquaredDistance{ true };

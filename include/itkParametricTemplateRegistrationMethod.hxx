@@ -31,38 +31,11 @@ namespace itk
 {
 template <typename TFixedMesh, typename TMovingMesh, typename TDistanceImage>
 ParametricTemplateRegistrationMethod<TFixedMesh, TMovingMesh, TDistanceImage>::ParametricTemplateRegistrationMethod()
+  : Superclass(false)
 {
-  this->SetPrimaryInputName("FixedMesh");
-  this->AddOptionalInputName("MovingMesh", 1);
   this->AddOptionalInputName("MovingDistanceImage", 2);
   this->AddRequiredInputName("TemplateTransform", 3);
   this->AddOptionalInputName("BaseTransform", 4);
-  this->SetNumberOfRequiredOutputs(1);
-  this->SetNthOutput(0, this->MakeOutput(0));
-}
-
-template <typename TFixedMesh, typename TMovingMesh, typename TDistanceImage>
-auto
-ParametricTemplateRegistrationMethod<TFixedMesh, TMovingMesh, TDistanceImage>::MakeOutput(
-  DataObjectPointerArraySizeType) -> DataObjectPointer
-{
-  return DecoratedTransformType::New().GetPointer();
-}
-
-template <typename TFixedMesh, typename TMovingMesh, typename TDistanceImage>
-auto
-ParametricTemplateRegistrationMethod<TFixedMesh, TMovingMesh, TDistanceImage>::GetTransformOutput() const
-  -> const DecoratedTransformType *
-{
-  return static_cast<const DecoratedTransformType *>(this->ProcessObject::GetOutput(0));
-}
-
-template <typename TFixedMesh, typename TMovingMesh, typename TDistanceImage>
-auto
-ParametricTemplateRegistrationMethod<TFixedMesh, TMovingMesh, TDistanceImage>::GetTransform() const
-  -> const TransformType *
-{
-  return this->GetTransformOutput()->Get();
 }
 
 template <typename TFixedMesh, typename TMovingMesh, typename TDistanceImage>
@@ -160,8 +133,7 @@ ParametricTemplateRegistrationMethod<TFixedMesh, TMovingMesh, TDistanceImage>::G
     this->RunStage(transform, EvaluationEnum::ExactPointToTriangle, m_NumberOfExactRefinementIterations, false);
   }
 
-  auto * output = static_cast<DecoratedTransformType *>(this->ProcessObject::GetOutput(0));
-  output->Set(transform);
+  this->SetTransformOutputValue(transform);
   this->UpdateProgress(1.0f);
 }
 
@@ -226,7 +198,7 @@ ParametricTemplateRegistrationMethod<TFixedMesh, TMovingMesh, TDistanceImage>::R
     case OptimizerEnum::OnePlusOneEvolutionary: {
       evolutionary = OnePlusOneEvolutionaryOptimizerv4<double>::New();
       auto generator = Statistics::NormalVariateGenerator::New();
-      generator->Initialize(m_RandomSeed);
+      generator->Initialize(this->GetRandomSeed());
       evolutionary->SetNormalVariateGenerator(generator);
       // Growth and shrink factors as recommended by Styner et al. for the (1+1) strategy.
       evolutionary->Initialize(m_InitialSearchRadius, 1.05, std::pow(1.05, -0.25));
@@ -324,7 +296,6 @@ ParametricTemplateRegistrationMethod<TFixedMesh, TMovingMesh, TDistanceImage>::P
   os << indent << "ConvergenceTolerance: " << m_ConvergenceTolerance << std::endl;
   os << indent << "WeightBound: " << m_WeightBound << std::endl;
   os << indent << "InitialSearchRadius: " << m_InitialSearchRadius << std::endl;
-  os << indent << "RandomSeed: " << m_RandomSeed << std::endl;
   os << indent << "ResampleBaseTransform: " << (m_ResampleBaseTransform ? "On" : "Off") << std::endl;
   os << indent << "BaseTransformMode: " << m_BaseTransformMode << std::endl;
   os << indent << "UseSquaredDistance: " << (m_UseSquaredDistance ? "On" : "Off") << std::endl;

@@ -20,8 +20,8 @@
 
 #include "itkFFDShapeMatchingCompatibility.h"
 #include "itkBSplineTransform.h"
-#include "itkPrincipalComponents.h"
-#include "itkSpatialJacobianEvaluator.h"
+#include "FFDShapeMatchingDetail/itkPrincipalComponents.h"
+#include "FFDShapeMatchingDetail/itkSpatialJacobianEvaluator.h"
 #include "itkTransform.h"
 #include <cctype>
 #include <cstdint>

@@ -22,7 +22,7 @@
 #include "itkBSplineDecompositionImageFilter.h"
 #include "itkTransformFileChecks.h"
 #include "itkImageRegionIteratorWithIndex.h"
-#include "itkPrincipalComponents.h"
+#include "FFDShapeMatchingDetail/itkPrincipalComponents.h"
 #include "itk_eigen.h"
 #include ITK_EIGEN(IterativeLinearSolvers)
 #include ITK_EIGEN(Sparse)

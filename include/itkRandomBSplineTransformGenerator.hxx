@@ -20,8 +20,8 @@
 
 #include "itkRandomBSplineTransformGenerator.h"
 #include "itkMersenneTwisterRandomVariateGenerator.h"
-#include "itkSpatialJacobianEvaluator.h"
-#include "itkMatrixDeterminant.h"
+#include "FFDShapeMatchingDetail/itkSpatialJacobianEvaluator.h"
+#include "FFDShapeMatchingDetail/itkMatrixDeterminant.h"
 #include <cmath>
 #include <limits>
 #include <vector>

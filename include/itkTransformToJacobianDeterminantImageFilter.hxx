@@ -21,7 +21,7 @@
 #include "itkTransformToJacobianDeterminantImageFilter.h"
 #include "itkImageScanlineIterator.h"
 #include "itkTotalProgressReporter.h"
-#include "itkMatrixDeterminant.h"
+#include "FFDShapeMatchingDetail/itkMatrixDeterminant.h"
 #include <limits>
 #include <vector>
 

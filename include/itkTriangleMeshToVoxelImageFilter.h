@@ -22,7 +22,7 @@
 #include "itkImageSource.h"
 #include "itkImage.h"
 #include "itkImageBase.h"
-#include "itkScanLineTriangleSet.h"
+#include "FFDShapeMatchingDetail/itkScanLineTriangleSet.h"
 
 #include <array>
 #include <atomic>

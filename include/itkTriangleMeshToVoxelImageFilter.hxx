@@ -552,7 +552,7 @@ TriangleMeshToVoxelImageFilter<TInputMesh, TOutputImage>::BuildTriangleHierarchy
       corners.push_back({ { vertexOf(ids[0]), vertexOf(ids[1]), vertexOf(ids[2]) } });
     }
   };
-  detail::ForEachPolygonTriangle(mesh, visit, true);
+  ForEachPolygonTriangle(mesh, visit, true);
   m_NumberOfDegenerateTriangles = numberOfDegenerate;
   m_NumberOfTriangles = triangles.size();
   if (triangles.empty())

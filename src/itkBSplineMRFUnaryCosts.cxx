@@ -15,7 +15,7 @@
  *  limitations under the License.
  *
  *=========================================================================*/
-#include "itkBSplineMRFUnaryCosts.h"
+#include "FFDShapeMatchingDetail/itkBSplineMRFUnaryCosts.h"
 #include "itkMultiThreaderBase.h"
 
 #include <algorithm>

@@ -15,7 +15,7 @@
  *  limitations under the License.
  *
  *=========================================================================*/
-#include "itkMattesMutualInformation.h"
+#include "FFDShapeMatchingDetail/itkMattesMutualInformation.h"
 #include "itkCompensatedSummation.h"
 #include "itkNumericTraits.h"
 

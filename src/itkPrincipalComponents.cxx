@@ -15,7 +15,7 @@
  *  limitations under the License.
  *
  *=========================================================================*/
-#include "itkPrincipalComponents.h"
+#include "FFDShapeMatchingDetail/itkPrincipalComponents.h"
 #include "itkMacro.h"
 
 #include "itk_eigen.h"

@@ -15,8 +15,8 @@
  *  limitations under the License.
  *
  *=========================================================================*/
-#include "itkScanLineTriangleSet.h"
-#include "itkPointTriangleDistance.h"
+#include "FFDShapeMatchingDetail/itkScanLineTriangleSet.h"
+#include "FFDShapeMatchingDetail/itkPointTriangleDistance.h"
 
 #include <algorithm>
 #include <cmath>

@@ -20,12 +20,12 @@
 // of a deformed cap to a sphere with known correspondences.
 
 #include "itkBSplineCoherentPointDriftRegistrationMethod.h"
-#include "itkBSplineLatticeBendingProduct.h"
-#include "itkBSplineLatticeBlockJacobi.h"
-#include "itkBSplineLatticeCoarseCorrection.h"
-#include "itkNeighborCandidateLists.h"
+#include "FFDShapeMatchingDetail/itkBSplineLatticeBendingProduct.h"
+#include "FFDShapeMatchingDetail/itkBSplineLatticeBlockJacobi.h"
+#include "FFDShapeMatchingDetail/itkBSplineLatticeCoarseCorrection.h"
+#include "FFDShapeMatchingDetail/itkNeighborCandidateLists.h"
 #include "itkShapeMatchingTestMeshes.h"
-#include "itkSpatialJacobianEvaluator.h"
+#include "FFDShapeMatchingDetail/itkSpatialJacobianEvaluator.h"
 #include "itkTestingMacros.h"
 #include "itkTranslationTransform.h"
 
@@ -1090,7 +1090,8 @@ itkBSplineCoherentPointDriftRegistrationMethodTest(int, char *[])
   const MeshType::Pointer     target = MakeDeformedPatch(source, -5.0, truth);
 
   auto registration = RegistrationType::New();
-  ITK_EXERCISE_BASIC_OBJECT_METHODS(registration, BSplineCoherentPointDriftRegistrationMethod, ProcessObject);
+  ITK_EXERCISE_BASIC_OBJECT_METHODS(
+    registration, BSplineCoherentPointDriftRegistrationMethod, MeshRegistrationMethodBase);
   ITK_TEST_EXPECT_EQUAL(registration->GetNumberOfControlPointsPerAxis(), 20u);
   ITK_TEST_EXPECT_EQUAL(registration->GetNumberOfIterations(), 40u);
   ITK_TEST_EXPECT_EQUAL(registration->GetNumberOfSolverIterations(), 30u);

@@ -17,7 +17,7 @@
  *=========================================================================*/
 #include "itkBSplineDeformationPenalty.h"
 #include "itkBSplineTransformInitializer.h"
-#include "itkCubicBSplineKernel.h"
+#include "FFDShapeMatchingDetail/itkCubicBSplineKernel.h"
 #include "itkImage.h"
 #include "itkMersenneTwisterRandomVariateGenerator.h"
 #include "gtest/gtest.h"

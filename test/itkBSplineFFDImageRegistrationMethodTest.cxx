@@ -189,8 +189,7 @@ itkBSplineFFDImageRegistrationMethodTest(int argc, char * argv[])
   ITK_EXERCISE_BASIC_OBJECT_METHODS(
     registration, BSplineFFDImageRegistrationMethod, BSplineImageRegistrationMethodBase);
   ITK_TEST_SET_GET_VALUE(20u, registration->GetNumberOfControlPointsPerAxis());
-  registration->SetNumberOfControlPointsPerAxis(2);
-  ITK_TEST_SET_GET_VALUE(4u, registration->GetNumberOfControlPointsPerAxis());
+  ITK_TEST_SET_GET_VALUE(1u, registration->GetNumberOfLevels());
   ITK_TEST_SET_GET_BOOLEAN(registration, UseAffineStage, false);
   ITK_TEST_SET_GET_BOOLEAN(registration, UseMovingImageGradientFilter, true);
 
@@ -199,6 +198,15 @@ itkBSplineFFDImageRegistrationMethodTest(int argc, char * argv[])
   ITK_TRY_EXPECT_EXCEPTION(registration->Update());
   registration->SetMovingImage(moving);
   registration->SetNumberOfLevels(6);
+  ITK_TRY_EXPECT_EXCEPTION(registration->Update());
+  // Grid and levels out of range are refused (BSplineImageRegistrationMethodBase), not clamped.
+  registration->SetNumberOfLevels(1);
+  registration->SetNumberOfControlPointsPerAxis(3);
+  ITK_TRY_EXPECT_EXCEPTION(registration->Update());
+  registration->SetNumberOfControlPointsPerAxis(6);
+  registration->SetNumberOfLevels(0);
+  ITK_TRY_EXPECT_EXCEPTION(registration->Update());
+  registration->SetNumberOfLevels(9);
   ITK_TRY_EXPECT_EXCEPTION(registration->Update());
 
   // Recovery of a smooth displacement, on mean squares and on Mattes MI, with the moving image's gradient from

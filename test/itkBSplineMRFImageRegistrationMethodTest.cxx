@@ -22,8 +22,8 @@
 #include "itkLinearInterpolateImageFunction.h"
 #include "itkMultiThreaderBase.h"
 #include "itkRandomBSplineTransformGenerator.h"
-#include "itkSpatialJacobianEvaluator.h"
-#include "itkMatrixDeterminant.h"
+#include "FFDShapeMatchingDetail/itkSpatialJacobianEvaluator.h"
+#include "FFDShapeMatchingDetail/itkMatrixDeterminant.h"
 #include "itkTestingMacros.h"
 #include <chrono>
 #include <ctime>

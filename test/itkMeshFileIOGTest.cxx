@@ -190,7 +190,7 @@ TEST(MeshFileIO, DoublePrecisionFarFromTheOrigin)
     const std::string fileName = (folder / (std::string("far") + extension)).string();
     const double      error = RoundTripError(mesh, fileName, true);
     EXPECT_LE(error, 0.5) << fileName;
-    EXPECT_GT(error, 1.0e-6) << fileName << ": float32 no longer; update the README's \"Limits and errors\"";
+    EXPECT_GT(error, 1.0e-6) << fileName << ": float32 no longer; update docs/ffd-match.md, \"Limits and errors\"";
   }
   std::filesystem::remove_all(folder);
 }

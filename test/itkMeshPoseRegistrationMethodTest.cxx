@@ -232,7 +232,7 @@ int
 TestBadInputs(const MeshType * source)
 {
   auto registration = PoseType::New();
-  ITK_EXERCISE_BASIC_OBJECT_METHODS(registration, MeshPoseRegistrationMethod, ProcessObject);
+  ITK_EXERCISE_BASIC_OBJECT_METHODS(registration, MeshPoseRegistrationMethod, MeshRegistrationMethodBase);
   ITK_TEST_SET_GET_VALUE(PoseEnum::Similarity, registration->GetPoseType());
 
   // No moving mesh.

@@ -22,7 +22,7 @@
 // GOCPD, the pose refinement runs the deformation from corrected poses and keeps the best run's state.
 
 #include "itkMeshShapeMatchingFilter.h"
-#include "itkMatrixDeterminant.h"
+#include "FFDShapeMatchingDetail/itkMatrixDeterminant.h"
 #include "itkShapeMatchingTestMeshes.h"
 #include "itkSimilarity3DTransform.h"
 #include "itkTestingMacros.h"

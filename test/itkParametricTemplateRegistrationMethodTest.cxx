@@ -243,7 +243,7 @@ itkParametricTemplateRegistrationMethodTest(int argc, char * argv[])
   std::cout << templates->GetNumberOfTemplates() << " templates" << std::endl;
 
   auto registration = RegistrationType::New();
-  ITK_EXERCISE_BASIC_OBJECT_METHODS(registration, ParametricTemplateRegistrationMethod, ProcessObject);
+  ITK_EXERCISE_BASIC_OBJECT_METHODS(registration, ParametricTemplateRegistrationMethod, MeshRegistrationMethodBase);
   ITK_TEST_SET_GET_VALUE(RegistrationType::OptimizerEnum::LBFGS, registration->GetOptimizer());
   ITK_TEST_SET_GET_VALUE(RegistrationType::EvaluationEnum::LinearDistanceMap, registration->GetEvaluation());
   ITK_TEST_SET_GET_VALUE(100u, registration->GetNumberOfIterations());

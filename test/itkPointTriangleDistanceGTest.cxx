@@ -15,8 +15,8 @@
  *  limitations under the License.
  *
  *=========================================================================*/
-#include "itkPointTriangleDistance.h"
-#include "itkTriangleBoundingVolumeHierarchy.h"
+#include "FFDShapeMatchingDetail/itkPointTriangleDistance.h"
+#include "FFDShapeMatchingDetail/itkTriangleBoundingVolumeHierarchy.h"
 #include "itkMath.h"
 #include "itkPoint.h"
 #include "gtest/gtest.h"

@@ -18,7 +18,7 @@
 // Checks of the pose refinement's corrections (itkPoseCorrection.h): the composed transform keeps the pose's type
 // and centre and maps every point as the pose followed by the correction, computed point by point here.
 
-#include "itkPoseCorrection.h"
+#include "FFDShapeMatchingDetail/itkPoseCorrection.h"
 #include "itkAffineTransform.h"
 #include "itkMath.h"
 #include "itkSimilarity3DTransform.h"

@@ -20,7 +20,7 @@
 #include "itkIdentityTransform.h"
 #include "itkImageRegionConstIteratorWithIndex.h"
 #include "itkRandomBSplineTransformGenerator.h"
-#include "itkSpatialJacobianEvaluator.h"
+#include "FFDShapeMatchingDetail/itkSpatialJacobianEvaluator.h"
 #include "itkTestingMacros.h"
 #include "itkTransformToJacobianDeterminantImageFilter.h"
 

@@ -21,9 +21,9 @@
 // Inputs and brute-force references shared by the voxelization tests.
 
 #include "itkMesh.h"
-#include "itkPointTriangleDistance.h"
+#include "FFDShapeMatchingDetail/itkPointTriangleDistance.h"
 #include "itkRegularSphereMeshSource.h"
-#include "itkTriangleBoundingVolumeHierarchy.h"
+#include "FFDShapeMatchingDetail/itkTriangleBoundingVolumeHierarchy.h"
 #include "itkTriangleCell.h"
 
 #include <array>

@@ -1,8 +1,6 @@
-# cmake -DPROGRAM=<prefix>/bin/ffd-match -DLIBRARY_DIR=<prefix>/lib ["-DMODULES=<prefix>/lib/a.so;<prefix>/lib/b.so"]
-#   -P CheckInstalledProgram.cmake
-# The installed program runs (--help) and loads the module's library from LIBRARY_DIR, through its RPATH; so do
-# the modules it loads when it needs them (the snapshot's rendering, VTK's formats, the transform file reader),
-# which must be installed in LIBRARY_DIR.
+# cmake -DPROGRAM=<prefix>/bin/ffd-match -DLIBRARY_DIR=<prefix>/lib -P CheckInstalledProgram.cmake
+# The installed program runs (--help) and loads every library of the module's (libFFDShapeMatching,
+# libFFDShapeMatchingVTKIO) from LIBRARY_DIR, through its RPATH.
 set(ENV{LD_LIBRARY_PATH} "")
 execute_process(COMMAND "${PROGRAM}" --help RESULT_VARIABLE _result OUTPUT_VARIABLE _output ERROR_VARIABLE _output)
 if(NOT _result EQUAL 0 OR NOT _output MATCHES "--source")
@@ -13,36 +11,18 @@ if(NOT _ldd)
   message(FATAL_ERROR "ldd not found: cannot tell which libFFDShapeMatching the program loads")
 endif()
 execute_process(COMMAND "${_ldd}" "${PROGRAM}" RESULT_VARIABLE _result OUTPUT_VARIABLE _libraries ERROR_VARIABLE _libraries)
-string(REGEX MATCH "libFFDShapeMatching[^\n]*=> *([^ \n]*)" _line "${_libraries}")
-get_filename_component(_loaded_dir "${CMAKE_MATCH_1}" DIRECTORY)
 get_filename_component(_expected_dir "${LIBRARY_DIR}" REALPATH)
-if(_loaded_dir)
+string(REGEX MATCHALL "libFFDShapeMatching[A-Za-z]*\\.so[^\n]*=> *[^ \n]*" _lines "${_libraries}")
+list(LENGTH _lines _count)
+if(NOT _result EQUAL 0 OR _libraries MATCHES "not found" OR _count LESS 2)
+  message(FATAL_ERROR "${PROGRAM} does not load the module's two libraries from ${_expected_dir}:\n${_libraries}")
+endif()
+foreach(_line IN LISTS _lines)
+  string(REGEX REPLACE ".*=> *" "" _path "${_line}")
+  get_filename_component(_loaded_dir "${_path}" DIRECTORY)
   get_filename_component(_loaded_dir "${_loaded_dir}" REALPATH)
-endif()
-if(NOT _loaded_dir STREQUAL _expected_dir)
-  message(FATAL_ERROR "${PROGRAM} loads libFFDShapeMatching from '${_loaded_dir}', not from ${_expected_dir}:\n${_libraries}")
-endif()
-message(STATUS "ffd-match --help ok, libFFDShapeMatching from the prefix (${_loaded_dir})")
-
-foreach(_module IN LISTS MODULES)
-  if(NOT EXISTS "${_module}")
-    message(FATAL_ERROR "the program's module ${_module} is not installed")
+  if(NOT _loaded_dir STREQUAL _expected_dir)
+    message(FATAL_ERROR "${PROGRAM} loads ${_path}, not from ${_expected_dir}:\n${_libraries}")
   endif()
-  execute_process(COMMAND "${_ldd}" "${_module}" RESULT_VARIABLE _result OUTPUT_VARIABLE _libraries
-    ERROR_VARIABLE _libraries)
-  # Every library of the module's (libFFDShapeMatching, libFFDShapeMatchingVTKIO) from the prefix.
-  string(REGEX MATCHALL "libFFDShapeMatching[A-Za-z]*\\.so[^\n]*=> *[^ \n]*" _lines "${_libraries}")
-  if(NOT _result EQUAL 0 OR _libraries MATCHES "not found" OR NOT _lines)
-    message(FATAL_ERROR "${_module} does not load the module's libraries from ${_expected_dir}:\n${_libraries}")
-  endif()
-  foreach(_line IN LISTS _lines)
-    string(REGEX REPLACE ".*=> *" "" _path "${_line}")
-    get_filename_component(_module_dir "${_path}" DIRECTORY)
-    get_filename_component(_module_dir "${_module_dir}" REALPATH)
-    if(NOT _module_dir STREQUAL _expected_dir)
-      message(FATAL_ERROR "${_module} loads ${_path}, not from ${_expected_dir}:\n${_libraries}")
-    endif()
-  endforeach()
-  get_filename_component(_module_name "${_module}" NAME)
-  message(STATUS "the module ${_module_name} loads the module's libraries from the prefix too")
 endforeach()
+message(STATUS "ffd-match --help ok, libFFDShapeMatching from the prefix (${_expected_dir})")

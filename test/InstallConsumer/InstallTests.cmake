@@ -2,10 +2,8 @@
 # module is installed in ITK's layout and found by ITK's own find_package(ITK COMPONENTS FFDShapeMatching),
 # which these tests do not cover). In order, through fixtures:
 #   FFDShapeMatchingInstall               cmake --install into a fresh temporary prefix; the files are there
-#   FFDShapeMatchingInstalledProgram      <prefix>/bin/ffd-match --help runs and finds <prefix>'s library; the
-#                                         program's modules (the snapshot's, loaded by --snapshot, and VTK's
-#                                         formats, loaded for STL, PLY and VTP files) find it too; the snapshot
-#                                         renders (FFDShapeMatchingInstalledProgramSnapshot)
+#   FFDShapeMatchingInstalledProgram      <prefix>/bin/ffd-match --help runs and finds <prefix>'s libraries; the
+#                                         snapshot renders (FFDShapeMatchingInstalledProgramSnapshot)
 #   FFDShapeMatchingInstallConsumerBuild  configures and builds test/InstallConsumer with find_package against
 #                                         the prefix, with this build's compilers, flags and ccache launcher
 #   FFDShapeMatchingInstallConsumerRun    the consumer reads two meshes and voxelizes one
@@ -22,9 +20,7 @@ set(_ffd_expected_files
   ${CMAKE_INSTALL_INCLUDEDIR}/FFDShapeMatching/itkTriangleMeshToVoxelImageFilter.hxx)
 if(FFDShapeMatching_BUILD_APPLICATIONS)
   list(APPEND _ffd_expected_files ${CMAKE_INSTALL_BINDIR}/ffd-match ${CMAKE_INSTALL_BINDIR}/ffd-voxelize
-    ${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDSnapshotRendering>
-    ${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDVTKFormatsModule>
-    ${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDTransformFilesModule>)
+    ${CMAKE_INSTALL_BINDIR}/ffd-templates)
 endif()
 add_test(NAME FFDShapeMatchingInstall
   COMMAND ${CMAKE_COMMAND} -DBUILD_DIR=${CMAKE_BINARY_DIR} -DPREFIX=${_ffd_prefix} -DCONFIG=$<CONFIG>
@@ -36,7 +32,6 @@ if(FFDShapeMatching_BUILD_APPLICATIONS)
   add_test(NAME FFDShapeMatchingInstalledProgram
     COMMAND ${CMAKE_COMMAND} -DPROGRAM=${_ffd_prefix}/${CMAKE_INSTALL_BINDIR}/ffd-match
       -DLIBRARY_DIR=${_ffd_prefix}/${CMAKE_INSTALL_LIBDIR}
-      "-DMODULES=${_ffd_prefix}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDSnapshotRendering>;${_ffd_prefix}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDVTKFormatsModule>;${_ffd_prefix}/${CMAKE_INSTALL_LIBDIR}/$<TARGET_FILE_NAME:FFDTransformFilesModule>"
       -P ${_ffd_consumer_source}/CheckInstalledProgram.cmake)
   set_tests_properties(FFDShapeMatchingInstalledProgram PROPERTIES FIXTURES_REQUIRED FFDShapeMatchingInstalled
     PASS_REGULAR_EXPRESSION "ffd-match --help ok, libFFDShapeMatching from the prefix")
@@ -89,7 +84,7 @@ if(FFDShapeMatching_BUILD_APPLICATIONS)
   set_tests_properties(FFDShapeMatchingInstalledExampleSameAsProgram PROPERTIES
     DEPENDS "FFDShapeMatchingInstalledExample;FFDShapeMatchingInstalledExampleProgram")
 
-  # The installed ffd-match loads the snapshot's rendering module from the prefix and renders (under xvfb-run, as
+  # The installed ffd-match renders a snapshot from the prefix (under xvfb-run, as
   # ffd-matchSnapshot in the build tree).
   find_program(FFDShapeMatching_XVFB_RUN xvfb-run)
   if(NOT FFDShapeMatching_XVFB_RUN)
@@ -100,7 +95,7 @@ if(FFDShapeMatching_BUILD_APPLICATIONS)
     --levels 1 --iterations 10 --output ${_ffd_consumer_work}/snapshot.vtp --snapshot ${_ffd_consumer_work}/snapshot.png)
   add_test(NAME FFDShapeMatchingInstalledProgramSnapshot
     COMMAND ${CMAKE_COMMAND} -DPNG=${_ffd_consumer_work}/snapshot.png "-DCOMMAND=${_ffd_snapshot_command}"
-      -P ${CMAKE_CURRENT_LIST_DIR}/../../apps/CheckSnapshot.cmake)
+      -P ${CMAKE_CURRENT_LIST_DIR}/../Programs/CheckSnapshot.cmake)
   set_tests_properties(FFDShapeMatchingInstalledProgramSnapshot PROPERTIES DEPENDS ffd-matchDemo
     FIXTURES_REQUIRED FFDShapeMatchingInstalled PASS_REGULAR_EXPRESSION "snapshot ok: 1400 x 700" TIMEOUT 120
     ENVIRONMENT "ASAN_OPTIONS=detect_leaks=0")

@@ -19,7 +19,7 @@
 #define itkSpatialJacobianEvaluator_h
 
 #include "itkBSplineTransform.h"
-#include "itkCubicBSplineKernel.h"
+#include "FFDShapeMatchingDetail/itkCubicBSplineKernel.h"
 #include "itkCompositeTransform.h"
 #include "itkMatrix.h"
 #include "itkTransform.h"

@@ -19,19 +19,20 @@
 #define FFDProgramMessages_h
 
 // Keeps VTK's and ITK's own messages off the stderr of the module's command-line programs, so that a refusal is
-// the program's one line: call CollectLibraryMessages() at the start of main (ITK's messages); VTK's come through
-// AddLibraryMessage() from the VTK formats module, which the programs load only when VTK is needed.
+// the program's one line: call CollectLibraryMessages() at the start of main.
 
 #include <string>
 
 namespace ffd
 {
-/** Replaces ITK's output window (itk::OutputWindow::SetInstance) by one that collects the messages instead of
- * printing them. (VTK's output window and logger are set the same way by the VTK formats module when it loads.) */
+/** Replaces ITK's output window (itk::OutputWindow::SetInstance) and VTK's (vtkOutputWindow::SetInstance) by ones
+ * that collect the messages instead of printing them, and turns VTK's logger's stderr output off. VTK's global
+ * warning display stays on: VTK 9.1 sends an object's ErrorEvent only when it is on, and the module's readers
+ * observe those events to turn VTK's errors into exceptions. */
 void
 CollectLibraryMessages();
 
-/** Keeps one library message (VTK's, handed on by the VTK formats module, FFDVTKMeshFormats.h). */
+/** Keeps one library message (what the collecting output windows receive). */
 void
 AddLibraryMessage(const char * text);
 

@@ -19,7 +19,7 @@
 #define itkNeighborCandidateLists_h
 
 #include "itkMacro.h"
-#include "itkPointCloudKdTree.h"
+#include "FFDShapeMatchingDetail/itkPointCloudKdTree.h"
 
 #include <algorithm>
 #include <array>

@@ -18,7 +18,7 @@
 #ifndef itkTriangleBoundingVolumeHierarchy_h
 #define itkTriangleBoundingVolumeHierarchy_h
 
-#include "itkPointTriangleDistance.h"
+#include "FFDShapeMatchingDetail/itkPointTriangleDistance.h"
 
 #include <algorithm>
 #include <array>

@@ -23,14 +23,15 @@
 
 #include "FFDInputFiles.h"
 #include "FFDProgramSupport.h"
-#include "FFDVTKMeshFormats.h"
 #include "itkMeshFileReader.h"
 #include "itkMeshFileWriter.h"
 #include "itkMeshPolygonTriangles.h"
 #include "itkTriangleCell.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <string>
@@ -38,20 +39,15 @@
 
 namespace ffd
 {
-/** PrepareMeshFormat(fileName): loads the VTK formats module for an STL, PLY or VTP file; its failure is thrown as
- * \c TError after \c what (e.g. "cannot read source mesh 'part.stl'"). */
-template <typename TError>
-void
-PrepareMeshFormatOrThrow(const std::string & fileName, const std::string & what)
+/** The extension of \c fileName in lower case, with its dot (".stl"), or "" when it has none. */
+inline std::string
+LowerCaseExtension(const std::string & fileName)
 {
-  try
-  {
-    PrepareMeshFormat(fileName);
-  }
-  catch (const std::runtime_error & error)
-  {
-    throw TError(what + ": " + error.what());
-  }
+  std::string extension = std::filesystem::path(fileName).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) {
+    return static_cast<char>(std::tolower(c));
+  });
+  return extension;
 }
 
 /** Reads the mesh \c fileName (\c role names it in messages: "source", "target", ...) and checks it: a readable,
@@ -66,7 +62,6 @@ ReadCheckedMesh(const std::string & fileName,
                 std::uintmax_t      maximumSize = MaximumMeshFileSize)
 {
   CheckInputFile<TError>(fileName, role + " mesh", maximumSize);
-  PrepareMeshFormatOrThrow<TError>(fileName, "cannot read " + role + " mesh '" + fileName + "'");
   auto reader = itk::MeshFileReader<TMesh>::New();
   reader->SetFileName(fileName);
   try
@@ -125,7 +120,6 @@ template <typename TError, typename TMesh>
 void
 WriteMeshFile(const TMesh * mesh, const std::string & fileName, const std::string & shownName)
 {
-  PrepareMeshFormatOrThrow<TError>(fileName, "cannot write mesh '" + shownName + "'");
   auto writer = itk::MeshFileWriter<TMesh>::New();
   writer->SetInput(mesh);
   writer->SetFileName(fileName);
@@ -204,7 +198,7 @@ ScaledTriangleCopy(const TMesh * mesh, double side, MeshPlacement placement)
     result->SetPoint(it.Index(), point);
   }
   typename TMesh::CellIdentifier cellId = 0;
-  itk::detail::ForEachPolygonTriangle(mesh, [&](itk::IdentifierType, const typename TMesh::PointIdentifier * ids) {
+  itk::ForEachPolygonTriangle(mesh, [&](itk::IdentifierType, const typename TMesh::PointIdentifier * ids) {
     typename TMesh::CellAutoPointer triangle;
     triangle.TakeOwnership(new itk::TriangleCell<typename TMesh::CellType>);
     for (unsigned int k = 0; k < 3; ++k)

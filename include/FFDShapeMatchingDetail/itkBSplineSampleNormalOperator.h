@@ -18,8 +18,8 @@
 #ifndef itkBSplineSampleNormalOperator_h
 #define itkBSplineSampleNormalOperator_h
 
-#include "itkBSplineLatticeBendingProduct.h"
-#include "itkBSplineLatticeRegularization.h"
+#include "FFDShapeMatchingDetail/itkBSplineLatticeBendingProduct.h"
+#include "FFDShapeMatchingDetail/itkBSplineLatticeRegularization.h"
 #include "itkMacro.h"
 
 #include "itk_eigen.h"

@@ -18,7 +18,7 @@
 #ifndef itkBSplineLatticeBlockJacobi_h
 #define itkBSplineLatticeBlockJacobi_h
 
-#include "itkBSplineSampleNormalOperator.h"
+#include "FFDShapeMatchingDetail/itkBSplineSampleNormalOperator.h"
 
 #include "itk_eigen.h"
 #include ITK_EIGEN(Cholesky)

@@ -22,6 +22,11 @@
 #include "itkObjectFactory.h"
 #include "itkOutputWindow.h"
 
+#include <vtkLogger.h>
+#include <vtkObjectFactory.h>
+#include <vtkOutputWindow.h>
+#include <vtkSmartPointer.h>
+
 #include <mutex>
 #include <vector>
 
@@ -63,6 +68,25 @@ protected:
   CollectingITKOutputWindow() = default;
   ~CollectingITKOutputWindow() override = default;
 };
+
+class CollectingVTKOutputWindow : public vtkOutputWindow
+{
+public:
+  vtkTypeMacro(CollectingVTKOutputWindow, vtkOutputWindow);
+  static CollectingVTKOutputWindow *
+  New();
+
+  void
+  DisplayText(const char * text) override
+  {
+    AddLibraryMessage(text);
+  }
+
+protected:
+  CollectingVTKOutputWindow() = default;
+  ~CollectingVTKOutputWindow() override = default;
+};
+vtkStandardNewMacro(CollectingVTKOutputWindow);
 } // namespace
 
 void
@@ -105,6 +129,8 @@ void
 CollectLibraryMessages()
 {
   itk::OutputWindow::SetInstance(CollectingITKOutputWindow::New());
+  vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
+  vtkOutputWindow::SetInstance(vtkSmartPointer<CollectingVTKOutputWindow>::New());
 }
 
 std::string

@@ -20,8 +20,8 @@
 
 #include "FFDShapeMatchingExport.h"
 #include "itkIndent.h"
-#include "itkScanLineWindingNumber.h"
-#include "itkTriangleBoundingVolumeHierarchy.h"
+#include "FFDShapeMatchingDetail/itkScanLineWindingNumber.h"
+#include "FFDShapeMatchingDetail/itkTriangleBoundingVolumeHierarchy.h"
 
 #include <array>
 #include <cmath>

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# Output safety of ffd-match and ffd-voxelize (README, "Limits and errors"): no output replaces an input, a failed
-# write never exits 0 and leaves nothing behind, devices and FIFOs are written into, never replaced, several outputs
-# are committed together or not at all, and every output is checked before any work.
+# Output safety of ffd-match and ffd-voxelize (docs/ffd-match.md, "Limits and errors"): no output replaces an input, a
+# failed write never exits 0 and leaves nothing behind, devices and FIFOs are written into, never replaced, several
+# outputs are committed together or not at all, and every output is checked before any work.
 #
 #   OutputSafetyTest.sh CASE FFD_MATCH FFD_VOXELIZE MESH WORK_DIR
 #

@@ -1,8 +1,8 @@
-# Functions that declare the CTest tests of the command-line programs (apps/CMakeLists.txt), one call per test,
+# Functions that declare the CTest tests of the command-line programs (test/Programs/CMakeLists.txt), one call per test,
 # with the program's arguments as a real CMake list.
 
-# The scripts the tests run (apps/ExpectFailure.cmake and friends).
-get_filename_component(_ffd_program_test_scripts ${CMAKE_CURRENT_LIST_DIR}/../apps ABSOLUTE)
+# The scripts the tests run (ExpectFailure.cmake and friends, beside this file).
+set(_ffd_program_test_scripts ${CMAKE_CURRENT_LIST_DIR})
 
 # ffd_add_rejection_test(<program> <case>
 #                        [AFTER_PROGRESS] [MESH <argument>] [OUTPUT <file>] [SPECIAL_INPUT <kind> <file name>]
@@ -10,7 +10,7 @@ get_filename_component(_ffd_program_test_scripts ${CMAKE_CURRENT_LIST_DIR}/../ap
 #                        ERROR <regex> | ERROR_CONTAINS <regex> | PASS_REGULAR_EXPRESSION <regex>
 #                        [PROPERTIES <property> <value>...])
 #
-# Adds the test <program>Rejects<case>: apps/ExpectFailure.cmake runs `<program> MESH OUTPUT ARGS...` and passes if
+# Adds the test <program>Rejects<case>: test/Programs/ExpectFailure.cmake runs `<program> MESH OUTPUT ARGS...` and passes if
 # the program exits non-zero with exactly one line on stderr and leaves no OUTPUT file; CTest then matches that line.
 # A failed check of the script fails the test even when the line matches.
 #   <program>       the program's target, ffd-match or ffd-voxelize.
@@ -20,7 +20,7 @@ get_filename_component(_ffd_program_test_scripts ${CMAKE_CURRENT_LIST_DIR}/../ap
 #                   is run as `ffd-match --output OUTPUT ARGS...`.
 #   OUTPUT          the output file that must not appear. Default ${ITK_TEST_OUTPUT_DIR}/<program>Rejects<case> with
 #                   .vtp (ffd-match) or .mha (ffd-voxelize).
-#   SPECIAL_INPUT   <kind> <file name>: apps/ExpectFailureOnSpecialInput.cmake first makes the special file
+#   SPECIAL_INPUT   <kind> <file name>: test/Programs/ExpectFailureOnSpecialInput.cmake first makes the special file
 #                   ${ITK_TEST_OUTPUT_DIR}/<file name> (kind fifo, zero-link, deep-vtp, bad-mha or bad-nrrd, see
 #                   there) and checks that the refusal comes within a second; @SPECIAL@ in MESH and ARGS stands for
 #                   the file's path.

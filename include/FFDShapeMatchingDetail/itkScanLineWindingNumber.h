@@ -18,7 +18,7 @@
 #ifndef itkScanLineWindingNumber_h
 #define itkScanLineWindingNumber_h
 
-#include "itkTriangleBoundingVolumeHierarchy.h"
+#include "FFDShapeMatchingDetail/itkTriangleBoundingVolumeHierarchy.h"
 
 #include <algorithm>
 #include <array>
