@@ -21,7 +21,10 @@
 #include "FFDMatchPipeline.h"
 #include "FFDProgramSupport.h"
 #include "FFDSnapshot.h"
+#include "itkMultiThreaderBase.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <iomanip>
@@ -183,9 +186,12 @@ bool
 MRFSolverFromString(const std::string & text, Options::MRFSolverEnum & solver)
 {
   using Solver = Options::MRFSolverEnum;
+  std::string lower = text; // case-insensitive, as the library's parsers of the other names
+  std::transform(
+    lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   for (const Solver candidate : { Solver::SpanningTree, Solver::AlphaExpansion, Solver::ICM })
   {
-    if (text == MRFSolverToString(candidate))
+    if (lower == MRFSolverToString(candidate))
     {
       solver = candidate;
       return true;
@@ -397,6 +403,13 @@ ParseArguments(int argc, char * argv[])
     {
       throw Error("unknown argument '" + argument + "' (see --help)");
     }
+  }
+  // --threads goes to ITK's global settings here, before any ITK object is made (the check of the method below makes
+  // a matching filter for its default): ITK's thread pool, once made, keeps the threads it started with.
+  if (options.threads > 0)
+  {
+    itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(options.threads);
+    itk::MultiThreaderBase::SetGlobalMaximumNumberOfThreads(options.threads);
   }
   if (options.demo)
   {

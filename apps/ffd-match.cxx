@@ -111,7 +111,14 @@ WriteTransform(const MatchingFilterType::TransformType * transform,
   }
   catch (const std::exception & error)
   {
-    throw Error("cannot write the transform '" + options.transformOut + "': " + OneLine(error.what()) +
+    // ITK's messages name the file written, a temporary one: the user knows the output by its own name.
+    std::string problem = OneLine(error.what());
+    for (std::size_t at = problem.find(fileName); at != std::string::npos; at = problem.find(fileName, at))
+    {
+      problem.replace(at, fileName.size(), options.transformOut);
+      at += options.transformOut.size();
+    }
+    throw Error("cannot write the transform '" + options.transformOut + "': " + problem +
                 "; is the disk full or a file size limit reached?");
   }
 }
@@ -365,12 +372,7 @@ main(int argc, char * argv[])
   ffd::CollectLibraryMessages();
   try
   {
-    const ffd::Options options = ffd::ParseArguments(argc, argv);
-    if (options.threads > 0)
-    {
-      itk::MultiThreaderBase::SetGlobalDefaultNumberOfThreads(options.threads);
-      itk::MultiThreaderBase::SetGlobalMaximumNumberOfThreads(options.threads);
-    }
+    const ffd::Options options = ffd::ParseArguments(argc, argv); // also applies --threads
     itk::RegisterFFDShapeMatchingMeshIOFactories();
     if (options.demo)
     {

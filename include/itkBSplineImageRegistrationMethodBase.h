@@ -44,9 +44,9 @@ namespace itk
  * The final control grid (NumberOfControlPointsPerAxis) and the resolution levels (NumberOfLevels, with the grid of
  * each level from GetMeshSizeAtLevel()) are the same for every derived method; each passes its default number of
  * levels to this class's constructor. A derived class implements GenerateData() and sets its result with
- * SetTransformOutputValue(); its GenerateData() calls VerifyImageInputs(), which also checks the grid and the
- * levels, starts the clock with StartRunTimeClock() and asks CheckRunTime() (or, from worker threads,
- * IsRunTimeExceeded()) where it can stop.
+ * SetTransformOutputValue(); its VerifyPreconditions() calls VerifyImageInputs(), which also checks the grid and
+ * the levels; its GenerateData() starts the clock with StartRunTimeClock() and asks CheckRunTime() (or, from worker
+ * threads, IsRunTimeExceeded()) where it can stop.
  *
  * \sa BSplineFFDImageRegistrationMethod, BSplineMRFImageRegistrationMethod
  * \ingroup FFDShapeMatching
@@ -102,7 +102,7 @@ public:
   /** Whether the last Update() stopped at MaximumRunTime. */
   itkGetConstMacro(TimeLimitReached, bool);
 
-  /** Control points per axis of the final B-spline grid (ITK mesh size N - 3), at least 4 (Update() refuses fewer).
+  /** Control points per axis of the final B-spline grid (ITK mesh size N - 3), 4 to 1000 (Update() refuses others).
    * Default: 20. */
   itkSetMacro(NumberOfControlPointsPerAxis, unsigned int);
   itkGetConstMacro(NumberOfControlPointsPerAxis, unsigned int);
@@ -131,7 +131,7 @@ protected:
   explicit BSplineImageRegistrationMethodBase(unsigned int numberOfLevels);
   ~BSplineImageRegistrationMethodBase() override = default;
 
-  /** Checks the grid (at least 4 control points per axis) and the levels (1 to 8), that the fixed and moving images
+  /** Checks the grid (4 to 1000 control points per axis) and the levels (1 to 8), that the fixed and moving images
    * are not empty, the mask (if any) is not empty, and both images have at least 2^NumberOfLevels voxels along every
    * axis; throws an ExceptionObject naming the problem. */
   void

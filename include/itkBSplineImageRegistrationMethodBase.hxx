@@ -128,9 +128,9 @@ template <typename TFixedImage, typename TMovingImage>
 void
 BSplineImageRegistrationMethodBase<TFixedImage, TMovingImage>::VerifyImageInputs() const
 {
-  if (m_NumberOfControlPointsPerAxis < 4)
+  if (m_NumberOfControlPointsPerAxis < 4 || m_NumberOfControlPointsPerAxis > 1000)
   {
-    itkExceptionMacro(<< "NumberOfControlPointsPerAxis must be at least 4, is " << m_NumberOfControlPointsPerAxis);
+    itkExceptionMacro(<< "NumberOfControlPointsPerAxis must be in [4, 1000], is " << m_NumberOfControlPointsPerAxis);
   }
   if (m_NumberOfLevels < 1 || m_NumberOfLevels > 8)
   {

@@ -863,6 +863,7 @@ MeshShapeMatchingFilter<TMesh, TImage>::GenerateData()
   auto start = ClockType::now();
   m_MatchingTarget = nullptr;
   m_PoseTransform = nullptr;
+  this->DecomposePose(); // no pose until the pose stage has run (a failed run leaves none)
   m_PoseTime = 0.0;
   m_PoseRefinementResiduals.clear();
   m_PoseRefinementTime = 0.0;

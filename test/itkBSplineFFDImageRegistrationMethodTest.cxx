@@ -203,6 +203,8 @@ itkBSplineFFDImageRegistrationMethodTest(int argc, char * argv[])
   registration->SetNumberOfLevels(1);
   registration->SetNumberOfControlPointsPerAxis(3);
   ITK_TRY_EXPECT_EXCEPTION(registration->Update());
+  registration->SetNumberOfControlPointsPerAxis(1001);
+  ITK_TRY_EXPECT_EXCEPTION(registration->Update());
   registration->SetNumberOfControlPointsPerAxis(6);
   registration->SetNumberOfLevels(0);
   ITK_TRY_EXPECT_EXCEPTION(registration->Update());

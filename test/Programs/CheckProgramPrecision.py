@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Checks of the module's programs that need arithmetic or raw bytes (run by CTest, apps/CMakeLists.txt).
+"""Checks of the module's programs that need arithmetic or raw bytes (run by CTest, test/Programs/CMakeLists.txt).
 
 identity-match FFD_MATCH FOLDER
     A cube 1e7 mm from the origin, with coordinates that need all of a double's digits, matched to itself with
