@@ -27,15 +27,13 @@
 
 namespace ffd
 {
-TransformListType
-ReadTransformFile(const std::string & fileName)
+namespace
 {
-  itk::RegisterFFDShapeMatchingTransforms();
-  const std::string problem = itk::FindProblemInTextTransformFile(fileName);
-  if (!problem.empty())
-  {
-    throw std::runtime_error(problem);
-  }
+// The transforms of \c fileName as ITK's transform file reader reads it (any format its transform IO reads); its
+// failures as std::runtime_error.
+TransformListType
+ReadWithTransformFileReader(const std::string & fileName)
+{
   auto reader = itk::TransformFileReaderTemplate<double>::New();
   reader->SetFileName(fileName);
   try
@@ -53,6 +51,19 @@ ReadTransformFile(const std::string & fileName)
   }
   return TransformListType(reader->GetTransformList()->begin(), reader->GetTransformList()->end());
 }
+} // namespace
+
+TransformListType
+ReadTransformFile(const std::string & fileName)
+{
+  itk::RegisterFFDShapeMatchingTransforms();
+  const std::string problem = itk::FindProblemInTextTransformFile(fileName);
+  if (!problem.empty())
+  {
+    throw std::runtime_error(problem);
+  }
+  return ReadWithTransformFileReader(fileName);
+}
 
 void
 WriteTransformFile(const itk::TransformBaseTemplate<double> * transform, const std::string & fileName)
@@ -68,19 +79,17 @@ WriteTransformFile(const itk::TransformBaseTemplate<double> * transform, const s
   {
     throw std::runtime_error(error.GetDescription());
   }
-  // Read back as written (any format ITK's transform IO writes): a cut file does not parse.
-  auto reader = itk::TransformFileReaderTemplate<double>::New();
-  reader->SetFileName(fileName);
+  // Read back as written: a cut file does not parse.
+  TransformListType written;
   try
   {
-    reader->Update();
+    written = ReadWithTransformFileReader(fileName);
   }
-  catch (const std::exception & error) // itk::ExceptionObject and the reader's standard exceptions
+  catch (const std::runtime_error &)
   {
     throw std::runtime_error("the written file does not read back whole");
   }
-  const auto * written = reader->GetTransformList();
-  if (written->size() != 1 || written->front()->GetNumberOfParameters() != transform->GetNumberOfParameters())
+  if (written.size() != 1 || written.front()->GetNumberOfParameters() != transform->GetNumberOfParameters())
   {
     throw std::runtime_error("the written file does not read back whole");
   }
